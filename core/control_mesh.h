@@ -1,0 +1,58 @@
+// The control mesh as a user hands it to Tessera: positions, faces of any size, and the
+// subdivision tags OpenSubdiv understands (creases, corners, holes, boundary interpolation).
+// Plain arrays in, so the OBJ reader, the gRPC upload and tests all build the same thing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace tessera {
+
+// Sharpness at or above this value is infinitely sharp, as in OpenSubdiv's Sdc (SHARPNESS_INFINITE).
+inline constexpr float kInfiniteSharpness = 10.0f;
+
+struct CreaseEdge {
+  int v0 = 0, v1 = 0;
+  float sharpness = 0.0f;
+};
+
+struct CornerVertex {
+  int vertex = 0;
+  float sharpness = 0.0f;
+};
+
+// Sdc's VtxBoundaryInterpolation: which boundary features are made sharp.
+enum class BoundaryInterpolation : uint8_t {
+  kEdgeOnly,       // boundary edges are infinitely sharp (OpenSubdiv's default)
+  kEdgeAndCorner,  // ... and boundary vertices with a single face are corners
+};
+
+struct ControlMesh {
+  std::vector<Vec3> positions;
+  std::vector<int> faceSizes;     // one entry per face, each >= 3
+  std::vector<int> faceVertices;  // concatenated vertex indices, counter-clockwise per face
+  std::vector<CreaseEdge> creases;
+  std::vector<CornerVertex> corners;
+  std::vector<int> holes;  // face indices that are holes (not part of the surface)
+  BoundaryInterpolation boundary = BoundaryInterpolation::kEdgeOnly;
+
+  int vertexCount() const { return static_cast<int>(positions.size()); }
+  int faceCount() const { return static_cast<int>(faceSizes.size()); }
+};
+
+// Size limits a mesh must respect; the server can lower them per deployment.
+struct MeshLimits {
+  int64_t maxVertices = 50'000'000;
+  int64_t maxFaces = 50'000'000;
+  int maxFaceSize = 64;
+  float maxAbsCoordinate = 1e18f;
+};
+
+// Checks every invariant the rest of core/ relies on; throws TesseraError naming the first
+// problem and where it is (face, vertex, crease index). Never crashes on any input.
+void validateControlMesh(const ControlMesh& mesh, const MeshLimits& limits = {});
+
+}  // namespace tessera

@@ -1,0 +1,98 @@
+#include "core/far_topology.h"
+
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+
+#include "core/error.h"
+
+namespace tessera {
+
+namespace {
+
+namespace Sdc = OpenSubdiv::Sdc;
+
+// Far's primvar interpolation works on any type with Clear and AddWithWeight.
+struct RefinedPoint {
+  Vec3d p;
+  void Clear() { p = Vec3d(); }
+  void AddWithWeight(const RefinedPoint& src, double weight) { p += src.p * weight; }
+};
+
+Sdc::Options subdivisionOptions(const ControlMesh& mesh) {
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(mesh.boundary == BoundaryInterpolation::kEdgeAndCorner
+                                          ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                          : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
+  options.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+  options.SetTriangleSubdivision(Sdc::Options::TRI_SUB_CATMARK);
+  return options;
+}
+
+}  // namespace
+
+std::unique_ptr<Far::TopologyRefiner> createTopologyRefiner(const ControlMesh& mesh) {
+  std::vector<int> creasePairs;
+  std::vector<float> creaseWeights;
+  for (const CreaseEdge& crease : mesh.creases) {
+    creasePairs.push_back(crease.v0);
+    creasePairs.push_back(crease.v1);
+    creaseWeights.push_back(crease.sharpness);
+  }
+  std::vector<int> cornerVertices;
+  std::vector<float> cornerWeights;
+  for (const CornerVertex& corner : mesh.corners) {
+    cornerVertices.push_back(corner.vertex);
+    cornerWeights.push_back(corner.sharpness);
+  }
+
+  Far::TopologyDescriptor descriptor;
+  descriptor.numVertices = mesh.vertexCount();
+  descriptor.numFaces = mesh.faceCount();
+  descriptor.numVertsPerFace = mesh.faceSizes.data();
+  descriptor.vertIndicesPerFace = mesh.faceVertices.data();
+  descriptor.numCreases = static_cast<int>(mesh.creases.size());
+  descriptor.creaseVertexIndexPairs = creasePairs.data();
+  descriptor.creaseWeights = creaseWeights.data();
+  descriptor.numCorners = static_cast<int>(mesh.corners.size());
+  descriptor.cornerVertexIndices = cornerVertices.data();
+  descriptor.cornerWeights = cornerWeights.data();
+  descriptor.numHoles = static_cast<int>(mesh.holes.size());
+  descriptor.holeIndices = mesh.holes.data();
+
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  Factory::Options options(Sdc::SCHEME_CATMARK, subdivisionOptions(mesh));
+  options.validateFullTopology = false;
+  std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(descriptor, options));
+  if (!refiner) throwInvalid("OpenSubdiv could not build the topology of the mesh");
+  return refiner;
+}
+
+std::vector<Vec3d> refinedPositions(const Far::TopologyRefiner& refiner,
+                                    const std::vector<Vec3>& basePositions) {
+  std::vector<RefinedPoint> points(refiner.GetNumVerticesTotal());
+  for (size_t v = 0; v < basePositions.size(); ++v) points[v].p = Vec3d(basePositions[v]);
+  Far::PrimvarRefinerReal<double> primvarRefiner(refiner);
+  RefinedPoint* source = points.data();
+  for (int level = 1; level <= refiner.GetMaxLevel(); ++level) {
+    RefinedPoint* destination = source + refiner.GetLevel(level - 1).GetNumVertices();
+    primvarRefiner.Interpolate(level, source, destination);
+    source = destination;
+  }
+  std::vector<Vec3d> result(points.size());
+  for (size_t i = 0; i < points.size(); ++i) result[i] = points[i].p;
+  return result;
+}
+
+float maxSemiSharpness(const ControlMesh& mesh) {
+  float result = 0.0f;
+  for (const CreaseEdge& c : mesh.creases) {
+    if (c.sharpness < kInfiniteSharpness) result = std::max(result, c.sharpness);
+  }
+  for (const CornerVertex& c : mesh.corners) {
+    if (c.sharpness < kInfiniteSharpness) result = std::max(result, c.sharpness);
+  }
+  return result;
+}
+
+}  // namespace tessera

@@ -1,0 +1,32 @@
+// OpenSubdiv Far's own limit evaluation (patch table isolated to level 10, Gregory end caps), the
+// reference for shapes that Debian's Bfr 3.5.0 gets wrong (valence-2 interior vertices, fixed
+// upstream in 3.5.1; see DESIGN.md). Exact for every piece at Far level <= 10.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <opensubdiv/far/patchMap.h>
+#include <opensubdiv/far/patchTable.h>
+#include <opensubdiv/far/ptexIndices.h>
+
+#include "core/control_mesh.h"
+#include "core/far_topology.h"
+#include "core/patch_set.h"
+
+namespace tessera::testing {
+
+class FarPatchReference {
+ public:
+  explicit FarPatchReference(const ControlMesh& mesh, int isolationLevel = 10);
+  bool evaluate(const PatchDomain& domain, double s, double t, Vec3d& position) const;
+
+ private:
+  std::unique_ptr<Far::TopologyRefiner> refiner_;
+  std::unique_ptr<Far::PatchTable> table_;
+  std::unique_ptr<Far::PatchMap> map_;
+  std::unique_ptr<Far::PtexIndices> ptex_;
+  std::vector<Vec3d> points_;  // refined vertices, then the end caps' local points
+};
+
+}  // namespace tessera::testing
