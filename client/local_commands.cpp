@@ -1,11 +1,115 @@
 // Local commands: run the core in-process on a mesh file.
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
 #include "client/commands.h"
+#include "core/error.h"
+#include "core/mesh_report.h"
+#include "core/obj_reader.h"
 
 namespace tessera::cli {
 
+int exitCodeFor(const TesseraError& error) {
+  switch (error.kind()) {
+    case ErrorKind::kInvalidInput: return kExitInvalidInput;
+    case ErrorKind::kUnsupported: return kExitUnsupported;
+    case ErrorKind::kLimitExceeded: return kExitLimit;
+  }
+  return kExitInvalidInput;
+}
+
+namespace {
+
+template <typename Map>
+nlohmann::json histogram(const Map& counts) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, count] : counts) j[std::to_string(key)] = count;
+  return j;
+}
+
+nlohmann::json toJson(const MeshReport& r) {
+  nlohmann::json rings = nlohmann::json::object();
+  for (const auto& [kind, byValence] : r.ringsByKind) rings[kind] = histogram(byValence);
+  return {
+      {"vertices", r.vertices},
+      {"unused_vertices", r.unusedVertices},
+      {"faces", r.faces},
+      {"face_sizes", histogram(r.faceSizes)},
+      {"valences", histogram(r.valences)},
+      {"edges", r.edges},
+      {"boundary_edges", r.boundaryEdges},
+      {"creases", r.creases},
+      {"infinitely_sharp_creases", r.infiniteCreases},
+      {"corners", r.corners},
+      {"holes", r.holes},
+      {"boundary_interpolation", r.boundaryInterpolation},
+      {"regular_patches", r.regularPatches},
+      {"rings", rings},
+      {"locally_refined_faces", r.locallyRefinedFaces},
+      {"isolation_level", r.isolationLevel},
+      {"refused", r.refusal.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.refusal)},
+  };
+}
+
+std::string formatHistogram(const std::map<int, int>& counts) {
+  std::string text;
+  for (const auto& [key, count] : counts) {
+    text += (text.empty() ? "" : ", ") + std::to_string(key) + ": " + std::to_string(count);
+  }
+  return text.empty() ? "none" : text;
+}
+
+void printText(const std::string& path, const MeshReport& r) {
+  std::printf("%s\n", path.c_str());
+  std::printf("  vertices            %d (%d unused)\n", r.vertices, r.unusedVertices);
+  std::printf("  faces               %d  sizes {%s}\n", r.faces, formatHistogram(r.faceSizes).c_str());
+  std::printf("  valences            {%s}\n", formatHistogram(r.valences).c_str());
+  std::printf("  edges               %d (%d on a boundary)\n", r.edges, r.boundaryEdges);
+  std::printf("  creases             %d (%d infinitely sharp), corners %d, holes %d\n", r.creases,
+              r.infiniteCreases, r.corners, r.holes);
+  std::printf("  boundary rule       %s\n", r.boundaryInterpolation.c_str());
+  if (!r.refusal.empty()) {
+    std::printf("  refused             %s\n", r.refusal.c_str());
+    return;
+  }
+  std::printf("  regular patches     %d\n", r.regularPatches);
+  for (const auto& [kind, byValence] : r.ringsByKind) {
+    std::printf("  %-8s rings      {%s} (valence: count)\n", kind.c_str(), formatHistogram(byValence).c_str());
+  }
+  std::printf("  locally refined     %d base faces (isolation level %d)\n", r.locallyRefinedFaces,
+              r.isolationLevel);
+}
+
+void registerInspect(CLI::App& app, CommandContext& context) {
+  auto* command = app.add_subcommand("inspect", "Describe what Tessera sees in a mesh");
+  auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  command->add_option("model", *path, "OBJ file (OpenSubdiv tags understood)")->required();
+  command->add_flag("--json", *json, "Print the report as JSON");
+  command->callback([&context, path, json] {
+    try {
+      MeshReport report = inspectMesh(readObjFile(*path));
+      if (*json) {
+        std::cout << toJson(report).dump(2) << "\n";
+      } else {
+        printText(*path, report);
+      }
+      context.exitCode = report.refusal.empty() ? kExitOk : kExitUnsupported;
+    } catch (const TesseraError& e) {
+      std::cerr << "tessera inspect: " << e.what() << "\n";
+      context.exitCode = exitCodeFor(e);
+    }
+  });
+}
+
+}  // namespace
+
 void registerLocalCommands(CLI::App& app, CommandContext& context) {
-  (void)app;
-  (void)context;
+  registerInspect(app, context);
 }
 
 }  // namespace tessera::cli

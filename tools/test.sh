@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Builds and runs the whole test suite: unit and end-to-end tests through ctest, then the OBJ
+# reader's fuzzer for a bounded time (TESSERA_FUZZ_SECONDS, default 60).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/tessera-xdg}"
+mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
+tools/build.sh
+ctest --test-dir build --output-on-failure -j2
+tools/fuzz.sh "${TESSERA_FUZZ_SECONDS:-60}"
