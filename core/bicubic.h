@@ -66,12 +66,26 @@ TESSERA_HD PatchSample evaluateBezier(const Point cv[16], double s, double t) {
   return evaluateTensorPatch(cv, s, t, [](double x, double* w, double* dw) { bernsteinBasis(x, w, dw); });
 }
 
+// The scalar type of a point type: Vec3T<T> -> T, plain floating point -> itself.
+template <typename Point>
+struct ScalarOf {
+  using type = decltype(Point{}.x);
+};
+template <>
+struct ScalarOf<float> {
+  using type = float;
+};
+template <>
+struct ScalarOf<double> {
+  using type = double;
+};
+
 // One row of M = (1/6)[[1,4,1,0],[0,4,2,0],[0,2,4,0],[0,1,4,1]] applied to four B-spline points.
 // Written with symmetric pairs ((a+c) + 4b) so that a shared patch boundary converts to
 // bit-identical Bézier points from either side (MATH.md §5).
 template <typename Point>
 TESSERA_HD void bsplineToBezierCurve(const Point b[4], Point out[4]) {
-  using T = decltype(b[0].x);
+  using T = typename ScalarOf<Point>::type;
   const T sixth = T(1) / T(6), third = T(1) / T(3);
   out[0] = ((b[0] + b[2]) + b[1] * T(4)) * sixth;
   out[1] = (b[1] * T(2) + b[2]) * third;

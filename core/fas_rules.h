@@ -53,134 +53,133 @@ inline RingRules makeRingRules(cer::RingShape shape, const uint8_t* sharpSpokes,
 
 namespace fas_detail {
 
-template <int W>
-TESSERA_HD void average4(float* out, const float* a, const float* b, const float* c,
-                         const float* d) {
-  for (int k = 0; k < W; ++k) out[k] = 0.25f * ((a[k] + b[k]) + (c[k] + d[k]));
+template <int W, typename Real>
+TESSERA_HD void average4(Real* out, const Real* a, const Real* b, const Real* c, const Real* d) {
+  for (int k = 0; k < W; ++k) out[k] = Real(0.25) * ((a[k] + b[k]) + (c[k] + d[k]));
 }
 
-template <int W>
-TESSERA_HD void midpoint(float* out, const float* a, const float* b) {
-  for (int k = 0; k < W; ++k) out[k] = 0.5f * (a[k] + b[k]);
+template <int W, typename Real>
+TESSERA_HD void midpoint(Real* out, const Real* a, const Real* b) {
+  for (int k = 0; k < W; ++k) out[k] = Real(0.5) * (a[k] + b[k]);
 }
 
 // Crease vertex rule: 3/4 v + 1/8 (a + b).
-template <int W>
-TESSERA_HD void creaseVertex(float* out, const float* v, const float* a, const float* b) {
-  for (int k = 0; k < W; ++k) out[k] = 0.75f * v[k] + 0.125f * (a[k] + b[k]);
+template <int W, typename Real>
+TESSERA_HD void creaseVertex(Real* out, const Real* v, const Real* a, const Real* b) {
+  for (int k = 0; k < W; ++k) out[k] = Real(0.75) * v[k] + Real(0.125) * (a[k] + b[k]);
 }
 
 // Smooth valence-4 vertex rule: v/2 + (sum of 4 neighbours)/16 + (sum of 4 face points)/16.
-template <int W>
-TESSERA_HD void regularVertex(float* out, const float* v, const float* const n[4],
-                              const float* const f[4]) {
+template <int W, typename Real>
+TESSERA_HD void regularVertex(Real* out, const Real* v, const Real* const n[4],
+                              const Real* const f[4]) {
   for (int k = 0; k < W; ++k) {
-    float edges = (n[0][k] + n[1][k]) + (n[2][k] + n[3][k]);
-    float faces = (f[0][k] + f[1][k]) + (f[2][k] + f[3][k]);
-    out[k] = 0.5f * v[k] + 0.0625f * (edges + faces);
+    Real edges = (n[0][k] + n[1][k]) + (n[2][k] + n[3][k]);
+    Real faces = (f[0][k] + f[1][k]) + (f[2][k] + f[3][k]);
+    out[k] = Real(0.5) * v[k] + Real(0.0625) * (edges + faces);
   }
 }
 
 }  // namespace fas_detail
 
 // Pass 1: the four face points of sector i.
-template <int W>
-TESSERA_HD void refineSectorFaces(const RingRules& rules, int i, const float* in, float* out) {
+template <int W, typename Real = float>
+TESSERA_HD void refineSectorFaces(const RingRules& rules, int i, const Real* in, Real* out) {
   using namespace cer;
   const auto& shape = rules.shape;
   auto P = [&](int index) { return in + index * W; };
   int next = rules.nextSector(i);
-  const float* ev = P(0);
-  const float* e = P(ringIndex(i, kE));
-  const float* a = P(ringIndex(i, kA));
-  const float* d = P(ringIndex(i, kD));
-  const float* r21 = P(ringIndex(i, kD21));
-  const float* r22 = P(ringIndex(i, kD22));
-  const float* r12 = P(ringIndex(i, kD12));
-  const float* eNext = P(ringIndex(next, kE));
-  const float* aNext = P(ringIndex(next, kA));
-  fas_detail::average4<W>(out + ringIndex(i, kD) * W, ev, e, d, eNext);
-  fas_detail::average4<W>(out + extraIndex(shape, i, kX31) * W, e, a, r21, d);
-  fas_detail::average4<W>(out + extraIndex(shape, i, kX33) * W, d, r21, r22, r12);
-  fas_detail::average4<W>(out + extraIndex(shape, i, kX13) * W, eNext, d, r12, aNext);
+  const Real* ev = P(0);
+  const Real* e = P(ringIndex(i, kE));
+  const Real* a = P(ringIndex(i, kA));
+  const Real* d = P(ringIndex(i, kD));
+  const Real* r21 = P(ringIndex(i, kD21));
+  const Real* r22 = P(ringIndex(i, kD22));
+  const Real* r12 = P(ringIndex(i, kD12));
+  const Real* eNext = P(ringIndex(next, kE));
+  const Real* aNext = P(ringIndex(next, kA));
+  fas_detail::average4<W, Real>(out + ringIndex(i, kD) * W, ev, e, d, eNext);
+  fas_detail::average4<W, Real>(out + extraIndex(shape, i, kX31) * W, e, a, r21, d);
+  fas_detail::average4<W, Real>(out + extraIndex(shape, i, kX33) * W, d, r21, r22, r12);
+  fas_detail::average4<W, Real>(out + extraIndex(shape, i, kX13) * W, eNext, d, r12, aNext);
 }
 
 // Pass 2 for spoke j (sector j's x-axis): its two edge points and the vertex point of e_j.
 // Needs the face points of sectors j and j-1 from pass 1.
-template <int W>
-TESSERA_HD void refineSpoke(const RingRules& rules, int j, const float* in, float* out) {
+template <int W, typename Real = float>
+TESSERA_HD void refineSpoke(const RingRules& rules, int j, const Real* in, Real* out) {
   using namespace cer;
   const auto& shape = rules.shape;
   auto P = [&](int index) { return in + index * W; };
   auto Q = [&](int index) { return out + index * W; };
-  const float* ev = P(0);
-  const float* e = P(ringIndex(j, kE));
-  const float* a = P(ringIndex(j, kA));
-  float* innerEdge = Q(ringIndex(j, kE));
-  float* outerEdge = Q(extraIndex(shape, j, kX30));
-  float* vertex = Q(ringIndex(j, kA));
+  const Real* ev = P(0);
+  const Real* e = P(ringIndex(j, kE));
+  const Real* a = P(ringIndex(j, kA));
+  Real* innerEdge = Q(ringIndex(j, kE));
+  Real* outerEdge = Q(extraIndex(shape, j, kX30));
+  Real* vertex = Q(ringIndex(j, kA));
   if (rules.spokeSharp(j)) {
-    fas_detail::midpoint<W>(innerEdge, ev, e);
-    fas_detail::midpoint<W>(outerEdge, e, a);
-    fas_detail::creaseVertex<W>(vertex, e, ev, a);
+    fas_detail::midpoint<W, Real>(innerEdge, ev, e);
+    fas_detail::midpoint<W, Real>(outerEdge, e, a);
+    fas_detail::creaseVertex<W, Real>(vertex, e, ev, a);
     return;
   }
   int prev = rules.prevSector(j);
-  const float* face = Q(ringIndex(j, kD));
-  const float* facePrev = Q(ringIndex(prev, kD));
-  const float* outerFace = Q(extraIndex(shape, j, kX31));
-  const float* outerFacePrev = Q(extraIndex(shape, prev, kX13));
-  fas_detail::average4<W>(innerEdge, ev, e, face, facePrev);
-  fas_detail::average4<W>(outerEdge, e, a, outerFace, outerFacePrev);
-  const float* neighbours[4] = {ev, a, P(ringIndex(j, kD)), P(ringIndex(prev, kD))};
-  const float* faces[4] = {face, outerFace, facePrev, outerFacePrev};
-  fas_detail::regularVertex<W>(vertex, e, neighbours, faces);
+  const Real* face = Q(ringIndex(j, kD));
+  const Real* facePrev = Q(ringIndex(prev, kD));
+  const Real* outerFace = Q(extraIndex(shape, j, kX31));
+  const Real* outerFacePrev = Q(extraIndex(shape, prev, kX13));
+  fas_detail::average4<W, Real>(innerEdge, ev, e, face, facePrev);
+  fas_detail::average4<W, Real>(outerEdge, e, a, outerFace, outerFacePrev);
+  const Real* neighbours[4] = {ev, a, P(ringIndex(j, kD)), P(ringIndex(prev, kD))};
+  const Real* faces[4] = {face, outerFace, facePrev, outerFacePrev};
+  fas_detail::regularVertex<W, Real>(vertex, e, neighbours, faces);
 }
 
 // Pass 2 for sector i: its four non-spoke edge points and the vertex point of d_i.
-template <int W>
-TESSERA_HD void refineSectorInterior(const RingRules& rules, int i, const float* in, float* out) {
+template <int W, typename Real = float>
+TESSERA_HD void refineSectorInterior(const RingRules& rules, int i, const Real* in, Real* out) {
   using namespace cer;
   const auto& shape = rules.shape;
   auto P = [&](int index) { return in + index * W; };
   auto Q = [&](int index) { return out + index * W; };
   int next = rules.nextSector(i);
-  const float* e = P(ringIndex(i, kE));
-  const float* d = P(ringIndex(i, kD));
-  const float* r21 = P(ringIndex(i, kD21));
-  const float* r12 = P(ringIndex(i, kD12));
-  const float* eNext = P(ringIndex(next, kE));
-  const float* face = Q(ringIndex(i, kD));
-  const float* f31 = Q(extraIndex(shape, i, kX31));
-  const float* f33 = Q(extraIndex(shape, i, kX33));
-  const float* f13 = Q(extraIndex(shape, i, kX13));
-  fas_detail::average4<W>(Q(ringIndex(i, kD21)), e, d, face, f31);
-  fas_detail::average4<W>(Q(extraIndex(shape, i, kX23)), d, r12, f13, f33);
-  fas_detail::average4<W>(Q(ringIndex(i, kD12)), eNext, d, face, f13);
-  fas_detail::average4<W>(Q(extraIndex(shape, i, kX32)), d, r21, f31, f33);
-  const float* neighbours[4] = {e, eNext, r21, r12};
-  const float* faces[4] = {face, f31, f33, f13};
-  fas_detail::regularVertex<W>(Q(ringIndex(i, kD22)), d, neighbours, faces);
+  const Real* e = P(ringIndex(i, kE));
+  const Real* d = P(ringIndex(i, kD));
+  const Real* r21 = P(ringIndex(i, kD21));
+  const Real* r12 = P(ringIndex(i, kD12));
+  const Real* eNext = P(ringIndex(next, kE));
+  const Real* face = Q(ringIndex(i, kD));
+  const Real* f31 = Q(extraIndex(shape, i, kX31));
+  const Real* f33 = Q(extraIndex(shape, i, kX33));
+  const Real* f13 = Q(extraIndex(shape, i, kX13));
+  fas_detail::average4<W, Real>(Q(ringIndex(i, kD21)), e, d, face, f31);
+  fas_detail::average4<W, Real>(Q(extraIndex(shape, i, kX23)), d, r12, f13, f33);
+  fas_detail::average4<W, Real>(Q(ringIndex(i, kD12)), eNext, d, face, f13);
+  fas_detail::average4<W, Real>(Q(extraIndex(shape, i, kX32)), d, r21, f31, f33);
+  const Real* neighbours[4] = {e, eNext, r21, r12};
+  const Real* faces[4] = {face, f31, f33, f13};
+  fas_detail::regularVertex<W, Real>(Q(ringIndex(i, kD22)), d, neighbours, faces);
 }
 
 // Pass 2 for the EV itself (after all face points exist).
-template <int W>
-TESSERA_HD void refineExtraordinaryVertex(const RingRules& rules, const float* in, float* out) {
+template <int W, typename Real = float>
+TESSERA_HD void refineExtraordinaryVertex(const RingRules& rules, const Real* in, Real* out) {
   using namespace cer;
   const int n = rules.shape.sectors;
-  float* result = out;
-  const float* ev = in;
+  Real* result = out;
+  const Real* ev = in;
   if (rules.evRule == EvRule::kCorner) {
     for (int k = 0; k < W; ++k) result[k] = ev[k];
   } else if (rules.evRule == EvRule::kCrease) {
-    fas_detail::creaseVertex<W>(result, ev, in + ringIndex(rules.creaseSpokeA, kE) * W,
+    fas_detail::creaseVertex<W, Real>(result, ev, in + ringIndex(rules.creaseSpokeA, kE) * W,
                                 in + ringIndex(rules.creaseSpokeB, kE) * W);
   } else {
     // ((n-2)/n) v + (1/n^2) (sum of edge neighbours + sum of face points)
-    const float selfWeight = float(n - 2) / float(n);
-    const float ringWeight = 1.0f / float(n * n);
+    const Real selfWeight = Real(n - 2) / Real(n);
+    const Real ringWeight = Real(1) / Real(n * n);
     for (int k = 0; k < W; ++k) {
-      float sum = 0.0f;
+      Real sum = 0;
       for (int i = 0; i < n; ++i) {
         sum += in[ringIndex(i, kE) * W + k] + out[ringIndex(i, kD) * W + k];
       }
@@ -190,13 +189,13 @@ TESSERA_HD void refineExtraordinaryVertex(const RingRules& rules, const float* i
 }
 
 // The whole step for one ring block, sequentially (the CPU path; CUDA spreads the loops over a warp).
-template <int W>
-TESSERA_HD void refineRingStep(const RingRules& rules, const float* in, float* out) {
+template <int W, typename Real = float>
+TESSERA_HD void refineRingStep(const RingRules& rules, const Real* in, Real* out) {
   const int n = rules.shape.sectors;
-  for (int i = 0; i < n; ++i) refineSectorFaces<W>(rules, i, in, out);
-  for (int j = 0; j < rules.shape.spokeCount(); ++j) refineSpoke<W>(rules, j, in, out);
-  for (int i = 0; i < n; ++i) refineSectorInterior<W>(rules, i, in, out);
-  refineExtraordinaryVertex<W>(rules, in, out);
+  for (int i = 0; i < n; ++i) refineSectorFaces<W, Real>(rules, i, in, out);
+  for (int j = 0; j < rules.shape.spokeCount(); ++j) refineSpoke<W, Real>(rules, j, in, out);
+  for (int i = 0; i < n; ++i) refineSectorInterior<W, Real>(rules, i, in, out);
+  refineExtraordinaryVertex<W, Real>(rules, in, out);
 }
 
 }  // namespace tessera

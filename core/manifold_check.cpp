@@ -97,16 +97,30 @@ void requireIndexedFaces(const ControlMesh& mesh) {
   }
 }
 
-std::vector<HalfEdge> sortedHalfEdges(const FaceCorners& corners) {
+// Ordered by edge, then corner. A counting sort on the lower vertex does most of the work in
+// linear time; each vertex's bucket, about as long as its valence, is then sorted on its own.
+// (One std::sort of all half-edges took 14 times as long as validateControlMesh on a 1M-quad grid.)
+std::vector<HalfEdge> sortedHalfEdges(const FaceCorners& corners, int vertexCount) {
+  std::vector<int> bucketStart(static_cast<size_t>(vertexCount) + 1, 0);
+  for (int corner = 0; corner < corners.count(); ++corner) {
+    const int a = corners.vertex(corner), b = corners.vertex(corners.next(corner));
+    ++bucketStart[std::min(a, b) + 1];
+  }
+  for (int v = 0; v < vertexCount; ++v) bucketStart[v + 1] += bucketStart[v];
+  std::vector<int> fill(bucketStart.begin(), bucketStart.end() - 1);
   std::vector<HalfEdge> halfEdges(corners.count());
   for (int corner = 0; corner < corners.count(); ++corner) {
     const auto a = static_cast<uint32_t>(corners.vertex(corner));
     const auto b = static_cast<uint32_t>(corners.vertex(corners.next(corner)));
-    halfEdges[corner] = {(uint64_t{std::min(a, b)} << 32) | std::max(a, b), corner};
+    const uint32_t low = std::min(a, b);
+    halfEdges[fill[low]++] = {(uint64_t{low} << 32) | std::max(a, b), corner};
   }
-  std::sort(halfEdges.begin(), halfEdges.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return x.edge != y.edge ? x.edge < y.edge : x.corner < y.corner;
-  });
+  for (int v = 0; v < vertexCount; ++v) {
+    std::sort(halfEdges.begin() + bucketStart[v], halfEdges.begin() + bucketStart[v + 1],
+              [](const HalfEdge& x, const HalfEdge& y) {
+                return x.edge != y.edge ? x.edge < y.edge : x.corner < y.corner;
+              });
+  }
   return halfEdges;
 }
 
@@ -138,8 +152,8 @@ void pairAcrossEdge(const HalfEdge& one, const HalfEdge& other, const FaceCorner
   fans.join(corners.next(a), b);
 }
 
-void checkEdges(const FaceCorners& corners, DisjointSets& fans) {
-  const std::vector<HalfEdge> halfEdges = sortedHalfEdges(corners);
+void checkEdges(const FaceCorners& corners, int vertexCount, DisjointSets& fans) {
+  const std::vector<HalfEdge> halfEdges = sortedHalfEdges(corners, vertexCount);
   const HalfEdge* const end = halfEdges.data() + halfEdges.size();
   for (const HalfEdge* first = halfEdges.data(); first != end;) {
     const HalfEdge* last = first + 1;
@@ -172,7 +186,7 @@ void requireManifold(const ControlMesh& mesh) {
   requireIndexedFaces(mesh);
   const FaceCorners corners(mesh);
   DisjointSets fans(corners.count());
-  checkEdges(corners, fans);
+  checkEdges(corners, mesh.vertexCount(), fans);
   checkFans(mesh, corners, fans);
 }
 

@@ -255,6 +255,11 @@ std::string readWholeFile(const std::string& path) {
 
 ControlMesh readObj(std::string_view text, const std::string& sourceName,
                     const MeshLimits& limits) {
+  // Windows editors may start a file with a UTF-8 byte order mark; it encodes nothing.
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  if (text.substr(0, kByteOrderMark.size()) == kByteOrderMark) {
+    text.remove_prefix(kByteOrderMark.size());
+  }
   ObjParser parser(sourceName, limits);
   int lineNumber = 0;
   for (size_t begin = 0; begin <= text.size();) {

@@ -20,31 +20,33 @@ TESSERA_HD void sectorPatchOrigin(int k, int& x0, int& y0) {
   y0 = k == 0 ? 0 : 1;
 }
 
-// Fills the 16 B-spline control points of sector patch k (0: A, 1: B, 2: C) from a refined set
-// of one ring (3 floats per point, relative coordinates as stored).
-TESSERA_HD void sectorPatchNet(const RingRules& rules, const float* refined, int sector, int k,
-                               Vec3 net[16]) {
+// Control point (row, col) of sector patch k's 4×4 net, from a point set laid out like the
+// refined set (the ring itself works for nets that stay within lattice coordinate 2).
+// `fetch(index)` returns the point at a CER index; P is any type with + and scalar *.
+template <typename P, typename Fetch>
+TESSERA_HD P sectorNetPoint(const RingRules& rules, int sector, int k, int row, int col, Fetch fetch) {
   int x0, y0;
   sectorPatchOrigin(k, x0, y0);
-  // Patch A's bottom edge lies on spoke `sector`; patch C's left edge on spoke `sector + 1`.
-  bool phantomRow = k == 0 && rules.spokeSharp(sector);
-  bool phantomColumn = k == 2 && rules.spokeSharp(rules.nextSector(sector));
-  auto fetch = [&](int x, int y) {
-    int index = cer::refinedIndex(rules.shape, sector, x, y);
+  auto at = [&](int x, int y) { return fetch(cer::refinedIndex(rules.shape, sector, x, y)); };
+  int x = x0 - 1 + col, y = y0 - 1 + row;
+  // Patch A's bottom edge lies on spoke `sector`; patch C's left edge on the next spoke.
+  if (k == 0 && row == 0 && rules.spokeSharp(sector)) return at(x, 0) * 2.0f + at(x, 1) * -1.0f;
+  if (k == 2 && col == 0 && rules.spokeSharp(rules.nextSector(sector))) {
+    return at(0, y) * 2.0f + at(1, y) * -1.0f;
+  }
+  return at(x, y);
+}
+
+// The 16 B-spline control points of sector patch k (0: A, 1: B, 2: C) from a refined set of
+// one ring (3 floats per point, relative coordinates as stored).
+TESSERA_HD void sectorPatchNet(const RingRules& rules, const float* refined, int sector, int k,
+                               Vec3 net[16]) {
+  auto fetch = [refined](int index) {
     const float* p = refined + 3 * index;
     return Vec3(p[0], p[1], p[2]);
   };
   for (int row = 0; row < 4; ++row) {
-    for (int col = 0; col < 4; ++col) {
-      int x = x0 - 1 + col, y = y0 - 1 + row;
-      if (phantomRow && row == 0) {
-        net[4 * row + col] = fetch(x, 0) * 2.0f - fetch(x, 1);
-      } else if (phantomColumn && col == 0) {
-        net[4 * row + col] = fetch(0, y) * 2.0f - fetch(1, y);
-      } else {
-        net[4 * row + col] = fetch(x, y);
-      }
-    }
+    for (int col = 0; col < 4; ++col) net[4 * row + col] = sectorNetPoint<Vec3>(rules, sector, k, row, col, fetch);
   }
 }
 

@@ -209,6 +209,12 @@ TEST(ObjReader, CrlfReadsLikeLf) {
   expectRefused(crlf + "v 1 2\r\n", ErrorKind::kInvalidInput, "test.obj:8: missing z coordinate");
 }
 
+TEST(ObjReader, ByteOrderMarkIsSkippedOnlyAtTheStart) {
+  EXPECT_EQ(readObj(std::string("\xEF\xBB\xBF") + kSquare, "bom.obj").faceCount(), 1);
+  expectRefused(std::string(kSquare) + "\xEF\xBB\xBFv 1 1 1\n", ErrorKind::kInvalidInput,
+                "test.obj:6: unknown OBJ statement '\\xef\\xbb\\xbfv'");
+}
+
 TEST(ObjReader, NumbersTakeSignsExponentsAndAnIgnoredW) {
   const ControlMesh mesh =
       readObj("v +1 -2.5e1 3E-2 0.5\nv 1e-50 0 0\nv 0 1 0\nf 1 2 3\n", "numbers.obj");

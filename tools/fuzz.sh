@@ -19,7 +19,10 @@ CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -G Ninja \
 cmake --build "$build" -j2 --target obj-reader-fuzz
 
 mkdir -p "$build/corpus" "$build/findings"
-cp -n "$root"/tests/fuzz/corpus/* "$build/corpus/"
+for seed in "$root"/tests/fuzz/corpus/*; do
+  # Keeps what is there; `cp -n` would do, but its exit status differs between coreutils versions.
+  [[ -e "$build/corpus/$(basename "$seed")" ]] || cp "$seed" "$build/corpus/"
+done
 
 # New inputs go to the first folder only; the others are read-only seeds.
 seeds=("$root/tests/data/malformed")

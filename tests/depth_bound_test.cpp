@@ -1,0 +1,139 @@
+// The depth tables are a bound: the innermost Bézier approximation after m FAS steps never
+// deviates from OpenSubdiv's exact limit surface by more than c_m · (ring radius), on random
+// rings and on every ring of the real models; and the checked-in tables regenerate exactly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/bicubic.h"
+#include "core/depth_bound.h"
+#include "core/depth_tables.h"
+#include "core/fas.h"
+#include "core/innermost_patch.h"
+#include "core/obj_reader.h"
+#include "core/patch_set.h"
+#include "tests/support/bfr_reference.h"
+#include "tests/support/models.h"
+#include "tests/support/ring_meshes.h"
+
+namespace tessera {
+namespace {
+
+TEST(DepthBound, CheckedInTablesRegenerate) {
+  for (int n : {3, 5, 7, 12}) {
+    cer::RingShape shape{n, false};
+    RingRules rules = makeRingRules(shape, nullptr, false);
+    std::vector<double> regenerated = computeDepthBound({shape, {}, false});
+    const std::vector<double>* table = depthCoefficients(rules);
+    ASSERT_NE(table, nullptr);
+    for (size_t m = 0; m < regenerated.size(); ++m) EXPECT_DOUBLE_EQ((*table)[m], regenerated[m]) << n << " " << m;
+  }
+  for (int k : {1, 2, 3, 6}) {
+    cer::RingShape shape{k, true};
+    RingRules rules = makeRingRules(shape, nullptr, false);
+    std::vector<double> regenerated = computeDepthBound({shape, {}, false});
+    const std::vector<double>* table = depthCoefficients(rules);
+    ASSERT_NE(table, nullptr);
+    for (size_t m = 0; m < regenerated.size(); ++m) EXPECT_DOUBLE_EQ((*table)[m], regenerated[m]) << k << " " << m;
+  }
+}
+
+TEST(DepthBound, MatchesTheRegularCaseAndDecays) {
+  // Valence 4 is a B-spline: only the tail term of the bound remains.
+  auto regular = computeDepthBound({{4, false}, {}, false}, 4);
+  EXPECT_LT(regular[0], 1e-3);
+  for (int n : {3, 5, 8}) {
+    auto c = computeDepthBound({{n, false}, {}, false});
+    for (size_t m = 1; m < c.size(); ++m) EXPECT_LT(c[m], c[m - 1]) << n;
+  }
+}
+
+struct BoundCheck {
+  double worstRatio = 0;  // measured / bound
+  int rings = 0;
+};
+
+// Samples sector domains of the innermost quads after m steps against a reference surface.
+template <typename Reference>
+void checkRing(const RingRules& rules, const float* ring, Vec3d center, const PatchDomain* sectorDomains,
+               const uint8_t* owned, Reference& reference, int maxDepth, BoundCheck& check) {
+  // `ring` is relative to `center`, its EV's control point, as Tessera stores rings.
+  const std::vector<double>* c = depthCoefficients(rules);
+  double radius = 0;
+  for (int p = 0; p < rules.shape.ringPointCount(); ++p) {
+    radius = std::max(radius, length(Vec3d(Vec3(ring[3 * p], ring[3 * p + 1], ring[3 * p + 2]))));
+  }
+  std::vector<float> levels = refineRing(rules, ring, maxDepth);
+  for (int m = 0; m <= maxDepth; ++m) {
+    const float* q = m == 0 ? ring : levels.data() + size_t(m - 1) * rules.shape.refinedPointCount() * 3;
+    double bound = c != nullptr ? (*c)[m] * radius : 0;
+    auto fetch = [q](int index) { return Vec3d(q[3 * index], q[3 * index + 1], q[3 * index + 2]); };
+    for (int i = 0; i < rules.shape.sectors; ++i) {
+      if (!owned[i]) continue;
+      Vec3d bezier[16];
+      innermostBezier<Vec3d>(rules, i, fetch, bezier);
+      PatchDomain inner = sectorDomains[i].restrict(0, 0, std::ldexp(1.0, -m));
+      double worst = 0;
+      for (int a = 0; a <= 8; ++a) {
+        for (int b = 0; b <= 8; ++b) {
+          Vec3d exact;
+          ASSERT_TRUE(reference.evaluate(inner, a / 8.0, b / 8.0, exact));
+          worst = std::max(worst, length(evaluateBezier(bezier, a / 8.0, b / 8.0).position + center - exact));
+        }
+      }
+      if (c == nullptr) continue;
+      EXPECT_LE(worst, bound + 1e-6 * radius) << "valence " << rules.shape.sectors << " depth " << m;
+      if (bound > 1e-9) check.worstRatio = std::max(check.worstRatio, worst / bound);
+    }
+  }
+  ++check.rings;
+}
+
+TEST(DepthBound, BoundsTheErrorOnRandomRings) {
+  BoundCheck check;
+  for (int n : {3, 5, 6, 8}) {
+    for (uint32_t seed = 0; seed < 3; ++seed) {
+      cer::RingShape shape{n, false};
+      ControlMesh mesh = testing::makeRingMesh(shape, 500 + 10 * n + seed);
+      testing::BfrReference reference(mesh);
+      RingRules rules = makeRingRules(shape, nullptr, false);
+      const Vec3 center = mesh.positions[0];
+      std::vector<float> ring;
+      for (const Vec3& p : mesh.positions) {
+        Vec3 d = p - center;
+        ring.insert(ring.end(), {d.x, d.y, d.z});
+      }
+      // Ring meshes: sector i's inner face is face 4i with the EV at its first corner.
+      std::vector<PatchDomain> domains(n);
+      for (int i = 0; i < n; ++i) domains[i].baseFace = 4 * i;
+      std::vector<uint8_t> owned(n, 1);
+      checkRing(rules, ring.data(), Vec3d(center), domains.data(), owned.data(), reference, 6, check);
+    }
+  }
+  EXPECT_GT(check.rings, 0);
+  EXPECT_LE(check.worstRatio, 1.0);
+}
+
+TEST(DepthBound, BoundsTheErrorOnEveryRingOfTheModels) {
+  for (const std::string& path : testing::benchmarkCharacters()) {
+    SCOPED_TRACE(path);
+    ControlMesh mesh = readObjFile(path);
+    PatchSet set = buildPatchSet(mesh);
+    testing::BfrReference reference(mesh);
+    BoundCheck check;
+    for (size_t r = 0; r < set.rings.size(); ++r) {
+      // Bfr is exact to Far level 10 (see patch_set_test.cpp).
+      int depth = std::min(4, 10 - set.rings.levels[r]);
+      checkRing(set.rings.rules(r), set.rings.ringPoints(r), Vec3d(set.rings.centers[r]),
+                set.rings.sectorDomains.data() + set.rings.sectorOffsets[r],
+                set.rings.sectorOwned.data() + set.rings.sectorOffsets[r], reference, depth, check);
+    }
+    EXPECT_EQ(check.rings, int(set.rings.size()));
+    EXPECT_LE(check.worstRatio, 1.0);
+    std::printf("%s: %d rings, worst measured/bound %.3f\n", testing::baseName(path).c_str(),
+                check.rings, check.worstRatio);
+  }
+}
+
+}  // namespace
+}  // namespace tessera
