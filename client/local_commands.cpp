@@ -10,6 +10,11 @@
 #include "core/error.h"
 #include "core/mesh_report.h"
 #include "core/obj_reader.h"
+#include "core/glb_writer.h"
+#include "core/tessellate.h"
+#include "client/camera_flags.h"
+#include <chrono>
+#include <fstream>
 
 namespace tessera::cli {
 
@@ -106,10 +111,46 @@ void registerInspect(CLI::App& app, CommandContext& context) {
   });
 }
 
+int runLocalTessellate(const TessellateFlags& flags) {
+  auto start = std::chrono::steady_clock::now();
+  try {
+    TessellationOptions options = flags.toOptions();
+    ControlMesh mesh = readObjFile(flags.model);
+    PatchSet patches = buildPatchSet(mesh);
+    double preprocessMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    TessellationResult result = tessellate(patches, mesh, options);
+    std::vector<uint8_t> glb = writeGlb(result.mesh, flags.model);
+    std::ofstream out(flags.output, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
+    if (!out) {
+      std::cerr << "tessera tessellate: cannot write " << flags.output << "\n";
+      return kExitIo;
+    }
+    double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const TessellationSummary& s = result.summary;
+    std::printf("triangles        %lld\n", (long long)s.triangles);
+    std::printf("patches          %lld (%zu regular, %d rings)\n", (long long)s.pieces, patches.regular.size(), s.rings);
+    std::printf("ring depth       average %.2f, maximum %d\n", s.averageDepth, s.maxDepth);
+    std::printf("guaranteed bound %.6g (tolerance %.6g)\n", s.guaranteedBound, s.tolerance);
+    std::printf("time             %.1f ms (preprocess %.1f, plan %.1f, triangulate %.1f)\n", totalMs,
+                preprocessMs, s.planMs, s.tessellateMs);
+    std::printf("wrote            %s (%zu bytes)\n", flags.output.c_str(), glb.size());
+    return kExitOk;
+  } catch (const TesseraError& e) {
+    std::cerr << "tessera tessellate: " << e.what() << "\n";
+    return exitCodeFor(e);
+  }
+}
+
 }  // namespace
 
 void registerLocalCommands(CLI::App& app, CommandContext& context) {
   registerInspect(app, context);
+  auto flags = std::make_shared<TessellateFlags>();
+  auto* command = app.add_subcommand("tessellate", "Tessellate a mesh's limit surface to a GLB");
+  flags->addTo(*command);
+  command->callback([&context, flags] { context.exitCode = runLocalTessellate(*flags); });
 }
 
 }  // namespace tessera::cli

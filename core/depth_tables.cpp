@@ -1,5 +1,6 @@
 #include "core/depth_tables.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -132,6 +133,14 @@ DepthEstimate estimateDepth(const RingRules& rules, const float* ring, double to
   int m = 0;
   while (m < kMaxTableDepth && (*c)[m] * radius > tolerance) ++m;
   return {m, (*c)[m] * radius};
+}
+
+double boundAtDepth(const RingRules& rules, const float* ring, int depth) {
+  depth = std::clamp(depth, 0, kMaxTableDepth);
+  if (const std::vector<double>* c = depthCoefficients(rules)) return (*c)[depth] * ringRadius(rules, ring);
+  if (depth == 0) return hullBound(rules, ring);
+  std::vector<float> levels = refineRing(rules, ring, depth);
+  return hullBound(rules, levels.data() + size_t(depth - 1) * rules.shape.refinedPointCount() * 3);
 }
 
 }  // namespace tessera

@@ -24,4 +24,7 @@ const std::vector<double>* depthCoefficients(const RingRules& rules);
 // achieved (it exceeds the tolerance only when the cap was hit).
 DepthEstimate estimateDepth(const RingRules& rules, const float* ring, double tolerance);
 
+// The guaranteed distance after a given depth (uniform mode).
+double boundAtDepth(const RingRules& rules, const float* ring, int depth);
+
 }  // namespace tessera

@@ -6,5 +6,7 @@ cd "$(dirname "$0")/.."
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/tessera-xdg}"
 mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
 tools/build.sh
+# Khronos glTF-Validator (npm) for the GLB tests.
+(cd tests/gltf && npm ci --no-audit --no-fund --loglevel=error)
 ctest --test-dir build --output-on-failure -j2
 tools/fuzz.sh "${TESSERA_FUZZ_SECONDS:-60}"

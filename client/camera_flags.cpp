@@ -1,0 +1,69 @@
+#include "client/camera_flags.h"
+
+#include <cstdio>
+
+#include "core/error.h"
+
+namespace tessera::cli {
+
+namespace {
+
+Vec3d parseVector(const std::string& text, const char* flag) {
+  double x, y, z;
+  char extra;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &extra) != 3) {
+    throwInvalid(std::string("--") + flag + " expects X,Y,Z, got '" + text + "'");
+  }
+  return {x, y, z};
+}
+
+void parseSize(const std::string& text, int& width, int& height) {
+  char extra;
+  if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &extra) != 2) {
+    throwInvalid("--size expects WIDTHxHEIGHT, got '" + text + "'");
+  }
+}
+
+}  // namespace
+
+void TessellateFlags::addTo(CLI::App& command) {
+  command.add_option("model", model, "OBJ file, or meshes/NAME on a server")->required();
+  command.add_option("-o,--output", output, "GLB file to write")->required();
+  command.add_option("--tolerance", tolerance, "Tolerance (object units, or a fraction of the diagonal)");
+  command.add_flag("--relative", relative, "Tolerance is a fraction of the bounding-box diagonal");
+  command.add_option("--eta", eta, "Share of the tolerance for the Bezier approximation (0..1)");
+  command.add_option("--level", level, "Uniform tessellation level p (benchmark mode)");
+  command.add_option("--eye", eye, "Camera position X,Y,Z (makes the tolerance pixel-accurate)");
+  command.add_option("--target", target, "Camera target X,Y,Z");
+  command.add_option("--up", up, "Camera up vector X,Y,Z");
+  command.add_option("--fov", fov, "Vertical field of view in degrees");
+  command.add_option("--size", size, "Viewport WIDTHxHEIGHT");
+  command.add_option("--pixel-accuracy", pixelAccuracy, "Screen-space tolerance in pixels (default 0.5)");
+  command.add_option("--max-triangles", maxTriangles, "Refuse requests past this many triangles");
+}
+
+TessellationOptions TessellateFlags::toOptions() const {
+  TessellationOptions options;
+  options.tolerance = tolerance;
+  options.relativeTolerance = relative;
+  options.eta = eta;
+  options.uniformLevel = level;
+  options.maxTriangles = maxTriangles;
+  options.pixelAccuracy = pixelAccuracy;
+  if (level == 0 && tolerance == 0 && eye.empty()) throwInvalid("give --tolerance, --level, or a camera (--eye/--target)");
+  if (!eye.empty() || !target.empty()) {
+    if (eye.empty() || target.empty()) throwInvalid("a camera needs both --eye and --target");
+    Camera camera;
+    camera.eye = parseVector(eye, "eye");
+    camera.target = parseVector(target, "target");
+    camera.up = parseVector(up, "up");
+    camera.fovYDegrees = fov;
+    parseSize(size, camera.width, camera.height);
+    options.camera = camera;
+    if (tolerance == 0) options.tolerance = 1;  // unused: the camera sets ε
+  }
+  validateTessellationOptions(options);
+  return options;
+}
+
+}  // namespace tessera::cli

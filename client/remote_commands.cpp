@@ -1,0 +1,242 @@
+// Remote commands of the `tessera` CLI: upload, list, get, delete, info and the remote form of
+// tessellate, each one call (or stream) to a tessera-server chosen with --server.
+#include <fmt/format.h>
+
+#include <ctime>
+#include <iostream>
+#include <memory>
+
+#include "client/commands.h"
+#include "client/remote_connection.h"
+#include "client/remote_progress.h"
+#include "client/remote_tessellate.h"
+#include "client/remote_upload.h"
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "tessera/v1/mesh.grpc.pb.h"
+#include "tessera/v1/server_info.grpc.pb.h"
+
+namespace tessera::cli {
+namespace {
+
+namespace v1 = tessera::v1;
+
+std::string formatTime(const google::protobuf::Timestamp& t) {
+  std::time_t seconds = static_cast<std::time_t>(t.seconds());
+  std::tm utc{};
+  gmtime_r(&seconds, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+const char* boundaryName(v1::BoundaryInterpolation b) {
+  return b == v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER ? "edge-and-corner" : "edge-only";
+}
+
+void printMesh(const v1::Mesh& m) {
+  const v1::BoundingBox& b = m.bounding_box();
+  std::cout << fmt::format(
+      "name          {}\ndisplay name  {}\nsource        {} ({})\nvertices      {}\n"
+      "faces         {} ({} face vertices)\ncreases       {}\ncorners       {}\nholes         {}\n"
+      "boundary      {}\nbounding box  ({:g}, {:g}, {:g}) - ({:g}, {:g}, {:g})\n"
+      "sha256        {}\nstored        {}\ncreated       {}\n",
+      m.name(), m.display_name(), m.source_format() == v1::MESH_FORMAT_OBJ ? "OBJ" : "arrays",
+      humanBytes(m.source_bytes()), m.vertex_count(), m.face_count(), m.face_vertex_count(),
+      m.crease_count(), m.corner_count(), m.hole_count(),
+      boundaryName(m.options().boundary_interpolation()), b.min().x(), b.min().y(), b.min().z(),
+      b.max().x(), b.max().y(), b.max().z(), m.sha256(), humanBytes(m.stored_bytes()),
+      formatTime(m.create_time()));
+}
+
+struct UploadArgs {
+  std::string file;
+  std::string name;
+  std::string displayName;
+  std::string boundary;
+};
+
+int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
+  UploadOptions options;
+  options.meshId = asMeshName(args.name).substr(7);
+  options.displayName = args.displayName;
+  if (args.boundary == "edge-only") {
+    options.subdivision.set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_EDGE_ONLY);
+  } else if (args.boundary == "edge-and-corner") {
+    options.subdivision.set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER);
+  }
+  auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
+  grpc::ClientContext context;
+  prepareContext(context, endpoint);
+  v1::Mesh mesh;
+  ProgressBar bar("upload");
+  grpc::Status status;
+  try {
+    status = uploadObjFile(*stub, context, args.file, options, &mesh, [&](int64_t sent, int64_t total) {
+      bar.update(total > 0 ? double(sent) / double(total) : 1.0, humanBytes(sent));
+    });
+  } catch (const LocalFileError& e) {
+    std::cerr << "tessera: " << e.what() << "\n";
+    return kExitIo;
+  }
+  bar.finish();
+  if (!status.ok()) return reportRpcError("upload " + args.file, status, &context);
+  printMesh(mesh);
+  return kExitOk;
+}
+
+int runList(const RemoteEndpoint& endpoint, int pageSize) {
+  auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
+  v1::ListMeshesRequest request;
+  request.set_page_size(pageSize);
+  std::cout << fmt::format("{:<40} {:>10} {:>10} {:>10}  {}\n", "NAME", "VERTICES", "FACES",
+                           "STORED", "CREATED");
+  do {
+    grpc::ClientContext context;
+    prepareContext(context, endpoint, kUnaryTimeout);
+    v1::ListMeshesResponse page;
+    grpc::Status status = stub->ListMeshes(&context, request, &page);
+    if (!status.ok()) return reportRpcError("list", status, &context);
+    for (const v1::Mesh& m : page.meshes()) {
+      std::cout << fmt::format("{:<40} {:>10} {:>10} {:>10}  {}\n", m.name(), m.vertex_count(),
+                               m.face_count(), humanBytes(m.stored_bytes()),
+                               formatTime(m.create_time()));
+    }
+    request.set_page_token(page.next_page_token());
+  } while (!request.page_token().empty());
+  return kExitOk;
+}
+
+int runGet(const RemoteEndpoint& endpoint, const std::string& name) {
+  auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
+  grpc::ClientContext context;
+  prepareContext(context, endpoint, kUnaryTimeout);
+  v1::GetMeshRequest request;
+  request.set_name(asMeshName(name));
+  v1::Mesh mesh;
+  grpc::Status status = stub->GetMesh(&context, request, &mesh);
+  if (!status.ok()) return reportRpcError("get " + request.name(), status, &context);
+  printMesh(mesh);
+  return kExitOk;
+}
+
+int runDelete(const RemoteEndpoint& endpoint, const std::string& name) {
+  auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
+  grpc::ClientContext context;
+  prepareContext(context, endpoint, kUnaryTimeout);
+  v1::DeleteMeshRequest request;
+  request.set_name(asMeshName(name));
+  google::protobuf::Empty empty;
+  grpc::Status status = stub->DeleteMesh(&context, request, &empty);
+  if (!status.ok()) return reportRpcError("delete " + request.name(), status, &context);
+  std::cout << "deleted " << request.name() << "\n";
+  return kExitOk;
+}
+
+int runInfo(const RemoteEndpoint& endpoint) {
+  auto stub = v1::ServerInfoService::NewStub(makeChannel(endpoint));
+  grpc::ClientContext context;
+  prepareContext(context, endpoint, kUnaryTimeout);
+  v1::ServerInfo info;
+  grpc::Status status = stub->GetServerInfo(&context, v1::GetServerInfoRequest(), &info);
+  if (!status.ok()) return reportRpcError("info", status, &context);
+  std::cout << fmt::format("server        {} (tessera {})\ndevice        {}\nstore         {}\n"
+                           "auth          {}\ntls           {}\ntessellation  {}\n",
+                           endpoint.server, info.version(), info.device(), info.store(),
+                           info.auth_required() ? "bearer token" : "none",
+                           info.tls() ? "yes" : "no",
+                           info.tessellation_available() ? "available" : "not available");
+  for (const v1::Backend& b : info.backends()) {
+    std::cout << fmt::format("backend       {} ({}): {}\n", b.name(),
+                             b.available() ? "available" : "unavailable", b.detail());
+  }
+  const v1::ServerLimits& l = info.limits();
+  std::cout << fmt::format(
+      "limits        upload {}, {} vertices, {} faces, face size {}, tolerance >= {:g} x diagonal,\n"
+      "              pixel accuracy >= {:g}, {} triangles, uniform level <= {}, {} pixels,\n"
+      "              {} jobs running + {} queued\n",
+      humanBytes(l.max_upload_bytes()), l.max_vertices(), l.max_faces(), l.max_face_size(),
+      l.min_relative_tolerance(), l.min_pixel_accuracy(), l.max_triangles(), l.max_uniform_level(),
+      l.max_image_pixels(), l.max_concurrent_jobs(), l.max_queued_jobs());
+  return kExitOk;
+}
+
+// For container health checks and scripts: exit code 0 only while the server says SERVING.
+int runHealth(const RemoteEndpoint& endpoint) {
+  auto stub = grpc::health::v1::Health::NewStub(makeChannel(endpoint));
+  grpc::ClientContext context;
+  prepareContext(context, endpoint, std::chrono::seconds(5));
+  grpc::health::v1::HealthCheckResponse response;
+  grpc::Status status = stub->Check(&context, grpc::health::v1::HealthCheckRequest(), &response);
+  if (!status.ok()) return reportRpcError("health", status, &context);
+  bool serving = response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
+  std::cout << grpc::health::v1::HealthCheckResponse::ServingStatus_Name(response.status()) << "\n";
+  return serving ? kExitOk : kExitRemote;
+}
+
+bool hasSubcommand(CLI::App& app, const std::string& name) {
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    if (sub->get_name() == name) return true;
+  }
+  return false;
+}
+
+// Registered only while the local `tessellate` does not exist; see client/remote_tessellate.h.
+void registerTessellate(CLI::App& app, CommandContext& context,
+                        std::shared_ptr<RemoteEndpoint> endpoint) {
+  auto args = std::make_shared<RemoteTessellateArgs>();
+  CLI::App* sub = app.add_subcommand("tessellate", "Tessellate a stored mesh (meshes/ID) to GLB");
+  sub->add_option("mesh", args->meshName, "meshes/ID")->required();
+  addRemoteTessellateOptions(*sub, *args);
+  sub->callback([&context, endpoint, args] {
+    if (!isRemoteMeshName(args->meshName)) {
+      std::cerr << "tessera tessellate: local tessellation is not in this build; name a stored "
+                   "mesh as meshes/ID\n";
+      context.exitCode = kExitUsage;
+      return;
+    }
+    context.exitCode = runRemoteTessellate(*endpoint, *args);
+  });
+}
+
+}  // namespace
+
+void registerRemoteCommands(CLI::App& app, CommandContext& context) {
+  // Shared by the callbacks, which run after parsing fills it in.
+  auto endpoint = std::make_shared<RemoteEndpoint>();
+  addEndpointOptions(app, *endpoint);
+
+  auto upload = std::make_shared<UploadArgs>();
+  CLI::App* up = app.add_subcommand("upload", "Upload an OBJ control mesh to the server");
+  up->add_option("file", upload->file, "The .obj file")->required()->check(CLI::ExistingFile);
+  up->add_option("--name", upload->name, "Mesh id (or meshes/ID) to store it under")->required();
+  up->add_option("--display-name", upload->displayName, "Free text (default: the file name)");
+  up->add_option("--boundary", upload->boundary, "Boundary interpolation (default: the file's)")
+      ->check(CLI::IsMember({"edge-only", "edge-and-corner"}));
+  up->callback([&context, endpoint, upload] { context.exitCode = runUpload(*endpoint, *upload); });
+
+  auto pageSize = std::make_shared<int>(100);
+  CLI::App* list = app.add_subcommand("list", "List the server's meshes");
+  list->add_option("--page-size", *pageSize, "Meshes per request")->capture_default_str();
+  list->callback([&context, endpoint, pageSize] { context.exitCode = runList(*endpoint, *pageSize); });
+
+  auto getName = std::make_shared<std::string>();
+  CLI::App* get = app.add_subcommand("get", "Show a stored mesh's metadata");
+  get->add_option("mesh", *getName, "meshes/ID")->required();
+  get->callback([&context, endpoint, getName] { context.exitCode = runGet(*endpoint, *getName); });
+
+  auto deleteName = std::make_shared<std::string>();
+  CLI::App* del = app.add_subcommand("delete", "Delete a stored mesh");
+  del->add_option("mesh", *deleteName, "meshes/ID")->required();
+  del->callback(
+      [&context, endpoint, deleteName] { context.exitCode = runDelete(*endpoint, *deleteName); });
+
+  CLI::App* info = app.add_subcommand("info", "Show the server's version, backends and limits");
+  info->callback([&context, endpoint] { context.exitCode = runInfo(*endpoint); });
+
+  CLI::App* health = app.add_subcommand("health", "Exit 0 if the server reports SERVING");
+  health->callback([&context, endpoint] { context.exitCode = runHealth(*endpoint); });
+
+  if (!hasSubcommand(app, "tessellate")) registerTessellate(app, context, endpoint);
+}
+
+}  // namespace tessera::cli

@@ -1,0 +1,34 @@
+// What a tessellation request asks for: a tolerance (absolute, relative to the bounding-box
+// diagonal, or pixel accuracy for a camera), the η split, or a uniform level for benchmarks.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "core/vec3.h"
+
+namespace tessera {
+
+struct Camera {
+  Vec3d eye, target, up{0, 1, 0};
+  double fovYDegrees = 45;
+  int width = 1920, height = 1080;
+};
+
+struct TessellationOptions {
+  double tolerance = 1e-3;        // absolute, or a fraction of the diagonal when relative
+  bool relativeTolerance = false;
+  std::optional<Camera> camera;   // makes the tolerance pixel-accurate for this view
+  double pixelAccuracy = 0.5;     // in pixels, with a camera
+  double eta = 0.5;               // share of ε for the Bézier approximation (paper §5.1)
+  int uniformLevel = 0;           // > 0: the paper's Table 2 setup instead of a tolerance
+  int64_t maxTriangles = 20'000'000;
+  bool recordParameters = false;  // keep each triangle's piece coordinates (tests, tools)
+};
+
+// Throws TesseraError (kInvalidInput) naming the bad field: zero, negative or non-finite
+// tolerance, η outside (0, 1), a degenerate camera, a non-positive viewport, a level outside
+// 1..4096.
+void validateTessellationOptions(const TessellationOptions& options);
+
+}  // namespace tessera

@@ -1,0 +1,36 @@
+// Watertight triangulation of a tessellation plan (MATH.md §5; the paper leaves it to future
+// work). Every piece edge is split where its neighbours' edges end (FAS and Far level changes
+// give T-junctions), each elementary interval gets one level (the finest its pieces ask for)
+// and its vertices are computed once and shared, so every shared edge has bit-identical
+// vertices. Each piece's N×N interior grid is stitched to its boundary polylines.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/domain_keys.h"
+#include "core/tessellation_plan.h"
+
+namespace tessera {
+
+struct TriangleMesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;
+  std::vector<uint32_t> indices;  // counter-clockwise seen from the normal side
+  // Where each vertex lies in the limit surface's parameterization (base face, quad sub-face or
+  // -1, u, v): lets tests compare every vertex and triangle with an exact evaluator.
+  std::vector<int> vertexFace, vertexSubFace;
+  std::vector<double> vertexUv;  // u, v per vertex
+  std::vector<uint32_t> trianglePiece;  // the plan piece each triangle belongs to
+  std::vector<double> triangleST;       // with recordParameters: (s, t) of each corner in its piece
+
+  size_t triangleCount() const { return indices.size() / 3; }
+};
+
+// Triangle count the plan will produce, before building anything (for budgets).
+int64_t estimateTriangles(const TessellationPlan& plan);
+
+TriangleMesh tessellatePlan(const TessellationPlan& plan, const FaceTopology& faces,
+                           bool recordParameters = false);
+
+}  // namespace tessera

@@ -1,0 +1,254 @@
+// Error-bounded, watertight tessellation against OpenSubdiv's exact limit surface.
+//
+// Distance: every triangle is a piece of one bicubic piece's parameter domain, so for sample
+// points q of a triangle the mesh point L(q) and the surface point x(q) correspond; max ‖L(q) − x(q)‖
+// bounds both one-sided distances (mesh → surface, and surface → mesh, since the triangles
+// tile each face's domain exactly: see PatchSet.CoversEveryFaceExactlyOnce). x comes from Bfr
+// (Far's patch table for valence-2 shapes), exact for pieces down to Far level 10.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include "core/error.h"
+#include "core/glb_writer.h"
+#include "core/obj_reader.h"
+#include "core/patch_set.h"
+#include "core/tessellate.h"
+#include "tests/support/bfr_reference.h"
+#include "tests/support/far_patch_reference.h"
+#include "tests/support/models.h"
+
+namespace tessera {
+namespace {
+
+constexpr int kBfrExactLevel = 10;
+constexpr size_t kMaxSampledTriangles = 60000;
+
+double diagonalOf(const PatchSet& set) { return length(Vec3d(set.boundsMax) - Vec3d(set.boundsMin)); }
+
+struct Measured {
+  double worst = 0;
+  size_t triangles = 0, sampled = 0;
+};
+
+template <typename Reference>
+Measured measure(const TessellationResult& result, Reference& reference) {
+  static const double kBarycentric[7][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0},
+                                            {0, 0.5, 0.5}, {0.5, 0, 0.5}, {1 / 3.0, 1 / 3.0, 1 / 3.0}};
+  const TriangleMesh& mesh = result.mesh;
+  Measured m;
+  m.triangles = mesh.triangleCount();
+  const size_t stride = std::max<size_t>(1, m.triangles / kMaxSampledTriangles);
+  for (size_t tri = 0; tri < m.triangles; tri += stride) {
+    const BezierPiece& piece = result.plan.pieces[mesh.trianglePiece[tri]];
+    if (piece.depth > kBfrExactLevel) continue;
+    const double* st = &mesh.triangleST[6 * tri];
+    for (const auto& b : kBarycentric) {
+      double s = b[0] * st[0] + b[1] * st[2] + b[2] * st[4], t = b[0] * st[1] + b[1] * st[3] + b[2] * st[5];
+      Vec3d onMesh;
+      for (int k = 0; k < 3; ++k) onMesh += Vec3d(mesh.positions[mesh.indices[3 * tri + k]]) * b[k];
+      Vec3d exact;
+      EXPECT_TRUE(reference.evaluate(piece.domain, s, t, exact));
+      m.worst = std::max(m.worst, length(onMesh - exact));
+    }
+    ++m.sampled;
+  }
+  return m;
+}
+
+TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& set, double relative) {
+  TessellationOptions options;
+  options.tolerance = relative;
+  options.relativeTolerance = true;
+  options.recordParameters = true;
+  return tessellate(set, mesh, options);
+}
+
+// Undirected edge use counts; a closed surface uses every edge twice, in opposite directions.
+struct EdgeCheck {
+  size_t boundaryEdges = 0, nonManifoldEdges = 0, misorientedEdges = 0, boundaryOffInputBoundary = 0;
+};
+
+EdgeCheck checkEdges(const TriangleMesh& mesh, const ControlMesh& control) {
+  std::map<std::pair<uint32_t, uint32_t>, int> directed;
+  for (size_t i = 0; i < mesh.indices.size(); i += 3) {
+    for (int k = 0; k < 3; ++k) ++directed[{mesh.indices[i + k], mesh.indices[i + (k + 1) % 3]}];
+  }
+  // Base edges with one face that is not a hole (the input's boundary, holes included).
+  std::map<std::pair<int, int>, int> baseEdges;
+  FaceTopology faces(control.faceSizes, control.faceVertices);
+  std::vector<bool> hole(control.faceCount(), false);
+  for (int h : control.holes) hole[h] = true;
+  for (int f = 0; f < control.faceCount(); ++f) {
+    if (hole[f]) continue;
+    for (int k = 0; k < faces.size(f); ++k) {
+      int a = faces.corner(f, k), b = faces.corner(f, k + 1);
+      ++baseEdges[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  auto onInputBoundary = [&](uint32_t v) {
+    DomainKey key = pointKey(faces, mesh.vertexFace[v], mesh.vertexSubFace[v], mesh.vertexUv[2 * v],
+                             mesh.vertexUv[2 * v + 1]);
+    if (key.kind == DomainKey::kEdge) return baseEdges[{key.a, key.b}] == 1;
+    return key.kind == DomainKey::kVertex;  // corners: checked through their edges' other end
+  };
+  EdgeCheck check;
+  for (const auto& [edge, count] : directed) {
+    int reverse = directed.count({edge.second, edge.first}) ? directed.at({edge.second, edge.first}) : 0;
+    if (count > 1) ++check.misorientedEdges;
+    if (count + reverse > 2) ++check.nonManifoldEdges;
+    if (reverse == 0) {
+      ++check.boundaryEdges;
+      if (!onInputBoundary(edge.first) || !onInputBoundary(edge.second)) ++check.boundaryOffInputBoundary;
+    }
+  }
+  return check;
+}
+
+bool hasBoundary(const ControlMesh& mesh) {
+  std::map<std::pair<int, int>, int> edges;
+  FaceTopology faces(mesh.faceSizes, mesh.faceVertices);
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    for (int k = 0; k < faces.size(f); ++k) {
+      int a = faces.corner(f, k), b = faces.corner(f, k + 1);
+      ++edges[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  for (const auto& [edge, count] : edges) {
+    if (count == 1) return true;
+  }
+  return !mesh.holes.empty();
+}
+
+template <typename Reference>
+void expectWithinToleranceAndWatertight(const std::string& path, const ControlMesh& mesh, Reference& reference) {
+  PatchSet set = buildPatchSet(mesh);
+  const double diagonal = diagonalOf(set);
+  double previous = INFINITY;
+  for (double relative : {1e-2, 1e-3, 1e-4}) {
+    SCOPED_TRACE(testing::baseName(path) + " at " + std::to_string(relative));
+    TessellationResult result = tessellateAt(mesh, set, relative);
+    Measured m = measure(result, reference);
+    const double epsilon = relative * diagonal;
+    EXPECT_LE(m.worst, epsilon) << m.sampled << " of " << m.triangles << " triangles sampled";
+    EXPECT_LE(result.summary.guaranteedBound, epsilon);
+    EXPECT_LE(m.worst, previous) << "lowering the tolerance raised the measured error";
+    previous = m.worst;
+    EdgeCheck edges = checkEdges(result.mesh, mesh);
+    EXPECT_EQ(edges.nonManifoldEdges, 0u);
+    EXPECT_EQ(edges.misorientedEdges, 0u);
+    if (hasBoundary(mesh)) {
+      EXPECT_EQ(edges.boundaryOffInputBoundary, 0u);
+    } else {
+      EXPECT_EQ(edges.boundaryEdges, 0u);
+    }
+    std::printf("%-28s eps %.0e: %8zu triangles, worst %.3g (%.2f of eps)\n", testing::baseName(path).c_str(),
+                relative, m.triangles, m.worst, m.worst / epsilon);
+  }
+}
+
+void expectModel(const std::string& path) {
+  ControlMesh mesh = readObjFile(path);
+  if (testing::baseName(path).find("val2") != std::string::npos) {
+    testing::FarPatchReference reference(mesh);
+    expectWithinToleranceAndWatertight(path, mesh, reference);
+  } else {
+    testing::BfrReference reference(mesh);
+    expectWithinToleranceAndWatertight(path, mesh, reference);
+  }
+}
+
+TEST(Tessellation, BenchmarkCharactersStayWithinToleranceAndAreWatertight) {
+  for (const std::string& path : testing::benchmarkCharacters()) expectModel(path);
+}
+
+TEST(Tessellation, OpenSubdivShapesStayWithinToleranceAndAreWatertight) {
+  for (const std::string& path : testing::openSubdivShapes()) {
+    ControlMesh mesh;
+    try {
+      mesh = readObjFile(path);
+      buildPatchSet(mesh);
+    } catch (const TesseraError&) {
+      continue;  // refused shapes are covered by PatchSet.OpenSubdivShapes...
+    }
+    expectModel(path);
+  }
+}
+
+TEST(Tessellation, WritesGlbThatKhronosValidatorAccepts) {
+  for (const char* name : {"bigguy", "opensubdiv-shapes/catmark_edgecorner"}) {
+    ControlMesh mesh = readObjFile(testing::modelsDir() + "/" + name + ".obj");
+    PatchSet set = buildPatchSet(mesh);
+    TessellationResult result = tessellateAt(mesh, set, 1e-3);
+    std::vector<uint8_t> glb = writeGlb(result.mesh, name);
+    TriangleMesh back = readGlb(glb);
+    ASSERT_EQ(back.positions.size(), result.mesh.positions.size());
+    ASSERT_EQ(back.indices, result.mesh.indices);
+    for (size_t v = 0; v < back.positions.size(); ++v) {
+      ASSERT_EQ(back.positions[v].x, result.mesh.positions[v].x);
+      ASSERT_EQ(back.normals[v].z, result.mesh.normals[v].z);
+    }
+    std::string file = std::string(TESSERA_BINARY_DIR) + "/validate-" + testing::baseName(name) + ".glb";
+    std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(glb.data()), glb.size());
+    std::string command = "node " + std::string(TESSERA_SOURCE_DIR) + "/tests/gltf/validate.js " + file;
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string report;
+    char chunk[4096];
+    while (size_t n = fread(chunk, 1, sizeof chunk, pipe)) report.append(chunk, n);
+    ASSERT_EQ(pclose(pipe), 0) << "glTF-Validator did not run (npm install in tests/gltf?): " << report;
+    EXPECT_NE(report.find("\"numErrors\":0,"), std::string::npos) << report;
+    EXPECT_NE(report.find("\"numWarnings\":0,"), std::string::npos) << report;
+  }
+}
+
+TEST(Tessellation, RefusesBadOptionsWithClearErrors) {
+  ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
+  PatchSet set = buildPatchSet(mesh);
+  auto expectError = [&](TessellationOptions options, ErrorKind kind, const std::string& mentions) {
+    try {
+      tessellate(set, mesh, options);
+      ADD_FAILURE() << "accepted; expected an error mentioning " << mentions;
+    } catch (const TesseraError& e) {
+      EXPECT_EQ(e.kind(), kind) << e.what();
+      EXPECT_NE(std::string(e.what()).find(mentions), std::string::npos) << e.what();
+    }
+  };
+  TessellationOptions o;
+  o.tolerance = 0;
+  expectError(o, ErrorKind::kInvalidInput, "tolerance");
+  o.tolerance = -1;
+  expectError(o, ErrorKind::kInvalidInput, "tolerance");
+  o.tolerance = NAN;
+  expectError(o, ErrorKind::kInvalidInput, "tolerance");
+  o = {};
+  o.eta = 1.5;
+  expectError(o, ErrorKind::kInvalidInput, "eta");
+  o = {};
+  o.tolerance = 1e-6;
+  o.relativeTolerance = true;
+  o.maxTriangles = 100000;
+  expectError(o, ErrorKind::kLimitExceeded, "budget");
+  o = {};
+  o.camera = Camera{{0, 0, 10}, {0, 0, 10}};
+  expectError(o, ErrorKind::kInvalidInput, "coincide");
+}
+
+TEST(Tessellation, PixelAccurateToleranceShrinksWithDistance) {
+  ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
+  PatchSet set = buildPatchSet(mesh);
+  auto trianglesFrom = [&](double distance) {
+    TessellationOptions o;
+    Vec3d center = (Vec3d(set.boundsMin) + Vec3d(set.boundsMax)) * 0.5;
+    o.camera = Camera{center + Vec3d(0, 0, distance), center, {0, 1, 0}, 45, 512, 512};
+    return tessellate(set, mesh, o).summary.triangles;
+  };
+  EXPECT_GT(trianglesFrom(20), trianglesFrom(80));
+}
+
+}  // namespace
+}  // namespace tessera
