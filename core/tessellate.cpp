@@ -28,7 +28,7 @@ TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
   }
   start = std::chrono::steady_clock::now();
   FaceTopology faces(mesh.faceSizes, mesh.faceVertices);
-  result.mesh = tessellatePlan(plan, faces, options.recordParameters);
+  result.mesh = tessellatePlan(plan, faces, options.recordParameters, options.checkpoint);
   result.summary.tessellateMs = millisecondsSince(start);
   TessellationSummary& s = result.summary;
   s.triangles = int64_t(result.mesh.triangleCount());

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "core/vec3.h"
@@ -24,6 +25,9 @@ struct TessellationOptions {
   int uniformLevel = 0;           // > 0: the paper's Table 2 setup instead of a tolerance
   int64_t maxTriangles = 20'000'000;
   bool recordParameters = false;  // keep each triangle's piece coordinates (tests, tools)
+  // Called every few hundred rings or pieces during long work; a caller that wants to stop
+  // (a cancelled or expired request) throws from it, and the exception leaves tessellate().
+  std::function<void()> checkpoint;
 };
 
 // Throws TesseraError (kInvalidInput) naming the bad field: zero, negative or non-finite

@@ -195,8 +195,10 @@ TessellationPlan planTessellation(const PatchSet& patches, const TessellationOpt
     plan.pieces.push_back(piece);
   }
   std::vector<RingPlan> ringPlans(patches.rings.size());
-  tbb::parallel_for(size_t(0), patches.rings.size(),
-                    [&](size_t r) { ringPlans[r] = planRing(patches, r, options, tolerance); });
+  tbb::parallel_for(size_t(0), patches.rings.size(), [&](size_t r) {
+    if (options.checkpoint && r % 64 == 0) options.checkpoint();
+    ringPlans[r] = planRing(patches, r, options, tolerance);
+  });
   long depthSum = 0;
   for (RingPlan& ring : ringPlans) {
     plan.pieces.insert(plan.pieces.end(), ring.pieces.begin(), ring.pieces.end());

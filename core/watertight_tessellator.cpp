@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include "core/bicubic.h"
@@ -35,8 +36,9 @@ struct Line {
 
 class Tessellator {
  public:
-  Tessellator(const TessellationPlan& plan, const FaceTopology& faces, bool recordParameters)
-      : plan_(plan), faces_(faces), recordParameters_(recordParameters) {}
+  Tessellator(const TessellationPlan& plan, const FaceTopology& faces, bool recordParameters,
+              const std::function<void()>& checkpoint)
+      : plan_(plan), faces_(faces), recordParameters_(recordParameters), checkpoint_(checkpoint) {}
   TriangleMesh run();
 
  private:
@@ -55,6 +57,7 @@ class Tessellator {
   const TessellationPlan& plan_;
   const FaceTopology& faces_;
   const bool recordParameters_;
+  const std::function<void()>& checkpoint_;
   std::map<DomainKey, Line> lines_;
   std::vector<std::array<std::pair<DomainKey, int>, 4>> pieceSides_;  // line key, use index
   std::map<DomainKey, uint32_t> points_;
@@ -251,7 +254,10 @@ void Tessellator::triangulatePiece(uint32_t p) {
 TriangleMesh Tessellator::run() {
   collectSides();
   resolveLines();
-  for (uint32_t p = 0; p < plan_.pieces.size(); ++p) triangulatePiece(p);
+  for (uint32_t p = 0; p < plan_.pieces.size(); ++p) {
+    if (checkpoint_ && p % 256 == 0) checkpoint_();
+    triangulatePiece(p);
+  }
   return std::move(mesh_);
 }
 
@@ -263,8 +269,9 @@ int64_t estimateTriangles(const TessellationPlan& plan) {
   return total;
 }
 
-TriangleMesh tessellatePlan(const TessellationPlan& plan, const FaceTopology& faces, bool recordParameters) {
-  return Tessellator(plan, faces, recordParameters).run();
+TriangleMesh tessellatePlan(const TessellationPlan& plan, const FaceTopology& faces, bool recordParameters,
+                           const std::function<void()>& checkpoint) {
+  return Tessellator(plan, faces, recordParameters, checkpoint).run();
 }
 
 }  // namespace tessera

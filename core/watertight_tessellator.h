@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/domain_keys.h"
@@ -31,6 +32,7 @@ struct TriangleMesh {
 int64_t estimateTriangles(const TessellationPlan& plan);
 
 TriangleMesh tessellatePlan(const TessellationPlan& plan, const FaceTopology& faces,
-                           bool recordParameters = false);
+                           bool recordParameters = false,
+                           const std::function<void()>& checkpoint = {});
 
 }  // namespace tessera
