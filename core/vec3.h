@@ -11,7 +11,7 @@ template <typename T>
 struct Vec3T {
   T x{}, y{}, z{};
 
-  TESSERA_HD Vec3T() = default;
+  Vec3T() = default;  // defaulted: host-device for CUDA without an annotation
   TESSERA_HD Vec3T(T x_, T y_, T z_) : x(x_), y(y_), z(z_) {}
   template <typename U>
   TESSERA_HD explicit Vec3T(const Vec3T<U>& o) : x(T(o.x)), y(T(o.y)), z(T(o.z)) {}

@@ -15,8 +15,10 @@ packages=(
   # service
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   libsqlite3-dev libpq-dev postgresql
+  libssl-dev
   # rendering
-  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslc libopenimageio-dev
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers spirv-tools glslc
+  libopenimageio-dev
 )
 
 sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
