@@ -13,6 +13,9 @@
 #include "core/glb_writer.h"
 #include "core/tessellate.h"
 #include "client/camera_flags.h"
+#if TESSERA_WITH_REMOTE
+#include "client/remote_tessellate.h"
+#endif
 #include <chrono>
 #include <fstream>
 
@@ -150,7 +153,16 @@ void registerLocalCommands(CLI::App& app, CommandContext& context) {
   auto flags = std::make_shared<TessellateFlags>();
   auto* command = app.add_subcommand("tessellate", "Tessellate a mesh's limit surface to a GLB");
   flags->addTo(*command);
-  command->callback([&context, flags] { context.exitCode = runLocalTessellate(*flags); });
+  command->callback([&app, &context, flags] {
+#if TESSERA_WITH_REMOTE
+    // `meshes/NAME` names a mesh on the server; anything else is a local file.
+    if (isRemoteMeshName(flags->model)) {
+      context.exitCode = runRemoteTessellate(app, *flags);
+      return;
+    }
+#endif
+    context.exitCode = runLocalTessellate(*flags);
+  });
 }
 
 }  // namespace tessera::cli

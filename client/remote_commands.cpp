@@ -1,5 +1,6 @@
-// Remote commands of the `tessera` CLI: upload, list, get, delete, info and the remote form of
-// tessellate, each one call (or stream) to a tessera-server chosen with --server.
+// Remote commands of the `tessera` CLI: upload, list, get, delete, info and health, each one
+// call (or stream) to a tessera-server chosen with --server. The remote form of `tessellate`
+// shares the local command (client/remote_tessellate.h).
 #include <fmt/format.h>
 
 #include <ctime>
@@ -9,7 +10,6 @@
 #include "client/commands.h"
 #include "client/remote_connection.h"
 #include "client/remote_progress.h"
-#include "client/remote_tessellate.h"
 #include "client/remote_upload.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "tessera/v1/mesh.grpc.pb.h"
@@ -173,31 +173,6 @@ int runHealth(const RemoteEndpoint& endpoint) {
   return serving ? kExitOk : kExitRemote;
 }
 
-bool hasSubcommand(CLI::App& app, const std::string& name) {
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
-    if (sub->get_name() == name) return true;
-  }
-  return false;
-}
-
-// Registered only while the local `tessellate` does not exist; see client/remote_tessellate.h.
-void registerTessellate(CLI::App& app, CommandContext& context,
-                        std::shared_ptr<RemoteEndpoint> endpoint) {
-  auto args = std::make_shared<RemoteTessellateArgs>();
-  CLI::App* sub = app.add_subcommand("tessellate", "Tessellate a stored mesh (meshes/ID) to GLB");
-  sub->add_option("mesh", args->meshName, "meshes/ID")->required();
-  addRemoteTessellateOptions(*sub, *args);
-  sub->callback([&context, endpoint, args] {
-    if (!isRemoteMeshName(args->meshName)) {
-      std::cerr << "tessera tessellate: local tessellation is not in this build; name a stored "
-                   "mesh as meshes/ID\n";
-      context.exitCode = kExitUsage;
-      return;
-    }
-    context.exitCode = runRemoteTessellate(*endpoint, *args);
-  });
-}
-
 }  // namespace
 
 void registerRemoteCommands(CLI::App& app, CommandContext& context) {
@@ -235,8 +210,6 @@ void registerRemoteCommands(CLI::App& app, CommandContext& context) {
 
   CLI::App* health = app.add_subcommand("health", "Exit 0 if the server reports SERVING");
   health->callback([&context, endpoint] { context.exitCode = runHealth(*endpoint); });
-
-  if (!hasSubcommand(app, "tessellate")) registerTessellate(app, context, endpoint);
 }
 
 }  // namespace tessera::cli

@@ -67,7 +67,7 @@ v1::TessellateRequest buildRequest(const RemoteTessellateArgs& a) {
   if (camera) {
     setPixelTolerance(a, request);
   } else if (!a.tolerance) {
-    throw UsageError("--tolerance (or a camera: --eye, --target, --up, --fov, --size) is required");
+    if (!a.level) throw UsageError("give --tolerance, --level, or a camera (--eye, --target, ...)");
   } else if (a.relative) {
     request.set_relative(*a.tolerance);
   } else {
@@ -145,34 +145,10 @@ void printSummary(const v1::TessellationSummary& s, const std::string& output) {
   }
 }
 
-template <typename T>
-void addIfMissing(CLI::App& sub, const std::string& names, T& value, const std::string& help) {
-  std::string longName = names.substr(names.find("--"));
-  if (!sub.get_option_no_throw(longName)) sub.add_option(names, value, help);
-}
-
 }  // namespace
 
 bool isRemoteMeshName(std::string_view argument) {
   return argument.substr(0, 7) == "meshes/";
-}
-
-void addRemoteTessellateOptions(CLI::App& sub, RemoteTessellateArgs& a) {
-  addIfMissing(sub, "--tolerance", a.tolerance, "Error bound (model units, or see --relative)");
-  if (!sub.get_option_no_throw("--relative")) {
-    sub.add_flag("--relative", a.relative, "--tolerance is a fraction of the bbox diagonal");
-  }
-  addIfMissing(sub, "--eta", a.eta, "Share of the tolerance for ring depth, in (0, 1)");
-  addIfMissing(sub, "--level", a.level, "Uniform tessellation level per patch");
-  addIfMissing(sub, "--max-triangles", a.maxTriangles, "Refuse results larger than this");
-  addIfMissing(sub, "--eye", a.eye, "Camera position X,Y,Z (pixel-accurate tolerance)");
-  addIfMissing(sub, "--target", a.target, "Camera target X,Y,Z");
-  addIfMissing(sub, "--up", a.up, "Camera up vector X,Y,Z");
-  addIfMissing(sub, "--fov", a.fovDeg, "Vertical field of view in degrees");
-  addIfMissing(sub, "--size", a.size, "Viewport WIDTHxHEIGHT in pixels");
-  addIfMissing(sub, "--pixel-accuracy", a.pixelAccuracy, "Accuracy in pixels (default 0.5)");
-  addIfMissing(sub, "-o,--output", a.output, "The .glb file to write");
-  addIfMissing(sub, "--timeout", a.timeoutSeconds, "Give up after this many seconds");
 }
 
 int runRemoteTessellate(const CLI::App& root, const RemoteTessellateArgs& args) {

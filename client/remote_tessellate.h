@@ -2,12 +2,11 @@
 // (named "meshes/ID") and writes the streamed GLB to a file, checked against the server's
 // checksum before it is put in place.
 //
-// The local `tessellate MODEL.obj` shares the subcommand name. Whoever registers `tessellate`
-// hands arguments that name a stored mesh (isRemoteMeshName) to runRemoteTessellate():
-//   - registerRemoteCommands() registers it itself when no local `tessellate` exists yet;
-//   - otherwise the local command's callback calls runRemoteTessellate(root, args), having bound
-//     the remote-only flags with addRemoteTessellateOptions() (it skips flags already defined,
-//     so the local command's own --tolerance, -o and so on must then be copied into args).
+// The local `tessellate MODEL.obj` owns the subcommand (client/local_commands.cpp); its callback
+// hands arguments that name a stored mesh (isRemoteMeshName) to runRemoteTessellate() with its
+// own flags, so both forms read alike:
+//   context.exitCode = isRemoteMeshName(flags->model) ? runRemoteTessellate(root, *flags)
+//                                                     : runLocalTessellate(*flags);
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -21,9 +20,12 @@
 
 namespace tessera::cli {
 
+struct TessellateFlags;  // client/camera_flags.h
+
+// Everything a remote tessellation needs, as plain values (`tessera bench` fills these too).
 struct RemoteTessellateArgs {
   std::string meshName;              // "meshes/ID"
-  std::optional<double> tolerance;   // absolute, or relative with `relative`
+  std::optional<double> tolerance;   // absolute, or relative with `relative`; unset: level only
   bool relative = false;
   std::optional<double> eta;
   std::optional<int> level;          // uniform tessellation level
@@ -40,13 +42,12 @@ struct RemoteTessellateArgs {
 // True when a `tessellate` argument names a stored mesh rather than a local file.
 bool isRemoteMeshName(std::string_view argument);
 
-// Adds --tolerance, --relative, --eta, --level, --max-triangles, --eye, --target, --up, --fov,
-// --size, --pixel-accuracy, -o/--output and --timeout to sub, skipping any sub already has.
-void addRemoteTessellateOptions(CLI::App& sub, RemoteTessellateArgs& args);
-
-// Runs the remote tessellation with the endpoint options parsed on root; returns the exit code
-// (client/commands.h) after printing any error to stderr.
-int runRemoteTessellate(const CLI::App& root, const RemoteTessellateArgs& args);
+// Runs the remote tessellation; returns the exit code (client/commands.h) after printing any
+// error to stderr. The endpoint comes from the --server/--token/... options parsed on root.
 int runRemoteTessellate(const RemoteEndpoint& endpoint, const RemoteTessellateArgs& args);
+int runRemoteTessellate(const CLI::App& root, const RemoteTessellateArgs& args);
+// The same with the local command's flags (flags.model = "meshes/ID"); a tolerance of 0, a
+// level of 0 and an empty --eye mean "not given", as they do locally.
+int runRemoteTessellate(const CLI::App& root, const TessellateFlags& flags);
 
 }  // namespace tessera::cli

@@ -1,0 +1,87 @@
+#include "server/cpu_engine.h"
+
+#include <chrono>
+
+#include "core/glb_writer.h"
+#include "core/tessellate.h"
+
+namespace tessera::server {
+
+namespace {
+
+size_t bytesOf(const PatchSet& set) {
+  const RingSet& r = set.rings;
+  return set.regular.size() * (sizeof(ControlNet) + sizeof(PatchDomain) + 1) +
+         r.points.size() * sizeof(float) + r.sectorDomains.size() * (sizeof(PatchDomain) + 1) +
+         r.size() * 64;
+}
+
+TessellationOptions optionsFor(const TessellationJob& job, const CancellationToken& cancel) {
+  TessellationOptions options;
+  options.tolerance = job.tolerance > 0 ? job.tolerance : 1.0;
+  options.eta = job.eta;
+  options.uniformLevel = job.uniformLevel;
+  if (job.maxTriangles > 0) options.maxTriangles = job.maxTriangles;
+  if (job.camera) {
+    const CameraSpec& c = *job.camera;
+    options.camera = Camera{c.eye, c.target, c.up, c.fovYDeg, c.width, c.height};
+    options.pixelAccuracy = job.pixelAccuracy;
+  }
+  options.checkpoint = [&cancel] { cancel.throwIfCancelled(); };
+  return options;
+}
+
+}  // namespace
+
+CpuTessellationEngine::CpuTessellationEngine(size_t patchCacheBytes) : patches_(patchCacheBytes) {}
+
+std::string CpuTessellationEngine::detail() const {
+  return "EBOAT on the CPU: OpenSubdiv Far preprocessing, CER FAS, watertight triangulation";
+}
+
+// Keyed by id and content hash: a re-uploaded mesh under the same id never hits a stale entry.
+std::shared_ptr<const PatchSet> CpuTessellationEngine::patchesFor(const ControlMesh& mesh,
+                                                                  const TessellationJob& job) {
+  const std::string key = job.meshId + "@" + job.meshSha256;
+  if (auto cached = patches_.find(key)) return cached;
+  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh));
+  patches_.insert(key, built, bytesOf(*built));
+  return built;
+}
+
+TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const TessellationJob& job,
+                                              const CancellationToken& cancel) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); };
+  auto progress = [&](const char* stage, double fraction) {
+    if (job.reportProgress) job.reportProgress(stage, fraction);
+  };
+  TessellationOutput output;
+  auto start = Clock::now();
+  progress("preprocessing", 0.0);
+  std::shared_ptr<const PatchSet> patches = patchesFor(mesh, job);
+  output.summary.timings.push_back({"preprocess", seconds(start)});
+  cancel.throwIfCancelled();
+
+  progress("tessellating", 0.3);
+  start = Clock::now();
+  TessellationResult result = tessellate(*patches, mesh, optionsFor(job, cancel));
+  output.summary.timings.push_back({"tessellate", seconds(start)});
+  cancel.throwIfCancelled();
+
+  progress("encoding", 0.9);
+  start = Clock::now();
+  output.glb = writeGlb(result.mesh, job.meshId);
+  output.summary.timings.push_back({"encode", seconds(start)});
+  const tessera::TessellationSummary& s = result.summary;
+  output.summary.triangles = s.triangles;
+  output.summary.patches = s.pieces;
+  output.summary.rings = s.rings;
+  output.summary.averageDepth = s.averageDepth;
+  output.summary.maxDepth = s.maxDepth;
+  output.summary.guaranteedBound = s.guaranteedBound;
+  progress("done", 1.0);
+  return output;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,28 @@
+#include "server/mesh_metadata.h"
+
+#include <algorithm>
+
+namespace tessera::server {
+
+void describeMesh(const ControlMesh& mesh, MeshMetadata& metadata) {
+  metadata.boundary = mesh.boundary;
+  metadata.vertexCount = mesh.vertexCount();
+  metadata.faceCount = mesh.faceCount();
+  metadata.faceVertexCount = static_cast<int64_t>(mesh.faceVertices.size());
+  metadata.creaseCount = static_cast<int64_t>(mesh.creases.size());
+  metadata.cornerCount = static_cast<int64_t>(mesh.corners.size());
+  metadata.holeCount = static_cast<int64_t>(mesh.holes.size());
+  if (mesh.positions.empty()) {
+    metadata.boundsMin = metadata.boundsMax = Vec3d();
+    return;
+  }
+  Vec3d lo(mesh.positions.front()), hi(mesh.positions.front());
+  for (const Vec3& p : mesh.positions) {
+    lo = Vec3d(std::min<double>(lo.x, p.x), std::min<double>(lo.y, p.y), std::min<double>(lo.z, p.z));
+    hi = Vec3d(std::max<double>(hi.x, p.x), std::max<double>(hi.y, p.y), std::max<double>(hi.z, p.z));
+  }
+  metadata.boundsMin = lo;
+  metadata.boundsMax = hi;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,40 @@
+// What the server knows about a stored mesh besides its arrays: enough to answer GetMesh and
+// ListMeshes without decoding the mesh.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/control_mesh.h"
+#include "core/vec3.h"
+
+namespace tessera::server {
+
+// Numbered as tessera.v1.MeshFormat, which is also how the stores persist it.
+enum class SourceFormat : int32_t { kArrays = 1, kObj = 2 };
+
+struct MeshMetadata {
+  std::string id;
+  std::string displayName;
+  SourceFormat sourceFormat = SourceFormat::kArrays;
+  int64_t sourceBytes = 0;
+  BoundaryInterpolation boundary = BoundaryInterpolation::kEdgeOnly;
+  int64_t vertexCount = 0;
+  int64_t faceCount = 0;
+  int64_t faceVertexCount = 0;
+  int64_t creaseCount = 0;
+  int64_t cornerCount = 0;
+  int64_t holeCount = 0;
+  Vec3d boundsMin;
+  Vec3d boundsMax;
+  std::string sha256;  // hex, of the canonical encoding
+  int64_t createTimeMicros = 0;  // since the Unix epoch
+  int64_t storedBytes = 0;       // size of the canonical encoding
+
+  double boundsDiagonal() const { return length(boundsMax - boundsMin); }
+};
+
+// Counts and bounds of mesh (everything that does not depend on how it arrived).
+void describeMesh(const ControlMesh& mesh, MeshMetadata& metadata);
+
+}  // namespace tessera::server

@@ -1,0 +1,109 @@
+#include "server/request_observer.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+#include <optional>
+#include <random>
+#include <string>
+
+#include "tessera/status_names.h"
+
+namespace tessera::server {
+namespace {
+
+using grpc::experimental::InterceptionHookPoints;
+
+constexpr const char* kRequestIdKey = "x-request-id";
+constexpr size_t kMaxRequestIdLength = 64;
+
+bool isSaneRequestId(std::string_view id) {
+  if (id.empty() || id.size() > kMaxRequestIdLength) return false;
+  for (char c : id) {
+    if (c <= 0x20 || c >= 0x7f) return false;
+  }
+  return true;
+}
+
+// Process-unique and unlikely to collide across replicas: a random prefix per process and a
+// counter.
+std::string newRequestId() {
+  static const uint32_t prefix = std::random_device{}();
+  static std::atomic<uint64_t> counter{0};
+  return fmt::format("{:08x}-{:x}", prefix, ++counter);
+}
+
+class RequestObserver final : public grpc::experimental::Interceptor {
+ public:
+  RequestObserver(grpc::experimental::ServerRpcInfo* info, ServerMetrics& metrics)
+      : info_(info), metrics_(metrics), start_(std::chrono::steady_clock::now()) {}
+
+  ~RequestObserver() override { finish(); }
+
+  void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_INITIAL_METADATA)) {
+      readRequestId(*methods->GetRecvInitialMetadata());
+      if (auto* context = info_->server_context()) peer_ = context->peer();
+    }
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_INITIAL_METADATA)) {
+      methods->GetSendInitialMetadata()->emplace(kRequestIdKey, requestId());
+    }
+    if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS)) {
+      grpc::Status status = methods->GetSendStatus();
+      code_ = status.error_code();
+      message_ = status.error_message();
+    }
+    methods->Proceed();
+  }
+
+ private:
+  void readRequestId(const std::multimap<grpc::string_ref, grpc::string_ref>& metadata) {
+    auto it = metadata.find(kRequestIdKey);
+    if (it == metadata.end()) return;
+    std::string_view id(it->second.data(), it->second.size());
+    if (isSaneRequestId(id)) requestId_ = std::string(id);
+  }
+
+  const std::string& requestId() {
+    if (requestId_.empty()) requestId_ = newRequestId();
+    return requestId_;
+  }
+
+  // The call is over when the interceptor is destroyed; a call whose status was never sent
+  // (the client went away first) is counted as CANCELLED.
+  void finish() {
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::string method = info_->method() ? info_->method() : "unknown";
+    grpc::StatusCode code = code_.value_or(grpc::StatusCode::CANCELLED);
+    std::string codeName(statusCodeName(code));
+    metrics_.requests.add({method, codeName});
+    metrics_.latency.observe({method}, seconds);
+    bool isHealth = method.rfind("/grpc.health.v1.", 0) == 0;
+    auto level = isHealth ? spdlog::level::debug
+                 : code == grpc::StatusCode::INTERNAL || code == grpc::StatusCode::DATA_LOSS
+                     ? spdlog::level::err
+                     : spdlog::level::info;
+    spdlog::log(level, "request_id={} method={} status={} duration_ms={:.2f} peer={}{}",
+                requestId(), method, codeName, seconds * 1e3, peer_,
+                message_.empty() ? "" : fmt::format(" message={:?}", message_));
+  }
+
+  grpc::experimental::ServerRpcInfo* info_;
+  ServerMetrics& metrics_;
+  std::chrono::steady_clock::time_point start_;
+  std::string requestId_;
+  std::string peer_ = "unknown";
+  std::optional<grpc::StatusCode> code_;
+  std::string message_;
+};
+
+}  // namespace
+
+grpc::experimental::Interceptor* RequestObserverFactory::CreateServerInterceptor(
+    grpc::experimental::ServerRpcInfo* info) {
+  return new RequestObserver(info, metrics_);
+}
+
+}  // namespace tessera::server

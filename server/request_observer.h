@@ -1,0 +1,25 @@
+// Observes every RPC, health and reflection included, from the outside: gives it a request id
+// (the client's "x-request-id" if it sent a sane one, echoed back in the initial metadata),
+// counts it by method and status, times it, and writes one structured log line when it ends.
+// A gRPC server interceptor, so no handler has to remember to do any of this.
+#pragma once
+
+#include <grpcpp/server_context.h>
+#include <grpcpp/support/server_interceptor.h>
+
+#include "server/server_metrics.h"
+
+namespace tessera::server {
+
+class RequestObserverFactory final
+    : public grpc::experimental::ServerInterceptorFactoryInterface {
+ public:
+  explicit RequestObserverFactory(ServerMetrics& metrics) : metrics_(metrics) {}
+  grpc::experimental::Interceptor* CreateServerInterceptor(
+      grpc::experimental::ServerRpcInfo* info) override;
+
+ private:
+  ServerMetrics& metrics_;
+};
+
+}  // namespace tessera::server

@@ -1,0 +1,222 @@
+#include "server/server_app.h"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/resource_quota.h>
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "server/mesh_service.h"
+#include "server/metrics_http_server.h"
+#include "server/request_observer.h"
+#include "server/server_info_service.h"
+#include "server/tessellation_service.h"
+#include "server/cpu_engine.h"
+#include "server/test_engines.h"
+
+#ifndef TESSERA_VERSION
+#define TESSERA_VERSION "unknown"
+#endif
+
+namespace tessera::server {
+namespace {
+
+namespace v1 = tessera::v1;
+
+// Enough threads for every admitted and queued job plus cheap calls; past it gRPC itself
+// refuses new calls with RESOURCE_EXHAUSTED instead of the process spawning threads without end.
+constexpr int kMaxServerThreads = 512;
+
+std::string readFile(const std::string& path, const char* flag) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(std::string(flag) + ": cannot read " + path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::shared_ptr<grpc::ServerCredentials> serverCredentials(const ServerConfig& config) {
+  if (config.tlsCert.empty()) return grpc::InsecureServerCredentials();
+  grpc::SslServerCredentialsOptions options;
+  options.pem_key_cert_pairs.push_back(
+      {readFile(config.tlsKey, "--tls-key"), readFile(config.tlsCert, "--tls-cert")});
+  return grpc::SslServerCredentials(options);
+}
+
+std::unique_ptr<TessellationEngine> makeEngine(const ServerConfig& config) {
+  if (config.testEngine.empty()) return std::make_unique<CpuTessellationEngine>(config.cacheBytes);
+  spdlog::warn("using the test engine \"{}\": results are not geometry", config.testEngine);
+  return makeTestEngine(config.testEngine);
+}
+
+v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngine& engine,
+                              const std::string& storeKind) {
+  v1::ServerInfo info;
+  info.set_version(TESSERA_VERSION);
+  v1::Backend* backend = info.add_backends();
+  backend->set_name(engine.name());
+  backend->set_available(engine.available());
+  backend->set_detail(engine.detail());
+  info.set_device(fmt::format("CPU: {} hardware threads", std::thread::hardware_concurrency()));
+  v1::ServerLimits* limits = info.mutable_limits();
+  limits->set_max_upload_bytes(config.upload.maxUploadBytes);
+  limits->set_max_vertices(config.upload.mesh.maxVertices);
+  limits->set_max_faces(config.upload.mesh.maxFaces);
+  limits->set_max_face_size(config.upload.mesh.maxFaceSize);
+  limits->set_min_relative_tolerance(config.tessellation.minRelativeTolerance);
+  limits->set_min_pixel_accuracy(config.tessellation.minPixelAccuracy);
+  limits->set_max_triangles(config.tessellation.maxTriangles);
+  limits->set_max_uniform_level(config.tessellation.maxUniformLevel);
+  limits->set_max_image_pixels(config.tessellation.maxImagePixels);
+  limits->set_max_concurrent_jobs(config.maxConcurrentJobs);
+  limits->set_max_queued_jobs(config.maxQueuedJobs);
+  info.set_store(storeKind);
+  info.set_auth_required(!config.token.empty());
+  info.set_tls(!config.tlsCert.empty());
+  info.set_tessellation_available(engine.available());
+  return info;
+}
+
+void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repository,
+                            AdmissionControl& admission) {
+  registry.sampled("tessera_cache_hits_total", "Mesh cache lookups that found the mesh.",
+                   "counter", [&] { return double(repository.cacheStats().hits); });
+  registry.sampled("tessera_cache_misses_total", "Mesh cache lookups that had to load it.",
+                   "counter", [&] { return double(repository.cacheStats().misses); });
+  registry.sampled("tessera_cache_bytes", "Bytes of decoded meshes in the cache.", "gauge",
+                   [&] { return double(repository.cacheStats().bytes); });
+  registry.sampled("tessera_queue_depth", "Heavy jobs waiting for admission.", "gauge",
+                   [&] { return double(admission.queued()); });
+  registry.sampled("tessera_jobs_running", "Heavy jobs admitted and running.", "gauge",
+                   [&] { return double(admission.running()); });
+  registry.sampled("tessera_admission_rejections_total",
+                   "Jobs refused with RESOURCE_EXHAUSTED because the queue was full.", "counter",
+                   [&] { return double(admission.rejected()); });
+  registry.sampled("tessera_store_bytes", "Bytes of mesh content in the store.", "gauge",
+                   [&] { return double(repository.storeStats().storedBytes); });
+  registry.sampled("tessera_store_meshes", "Meshes in the store.", "gauge",
+                   [&] { return double(repository.storeStats().meshCount); });
+}
+
+// Written via a temporary file and a rename, so a reader never sees half of it.
+void writeReadyFile(const std::string& path, const std::string& grpcAddress,
+                    const std::string& metricsAddress) {
+  std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << "grpc=" << grpcAddress << "\n";
+    if (!metricsAddress.empty()) out << "metrics=" << metricsAddress << "\n";
+    if (!out) throw std::runtime_error("--ready-file: cannot write " + temporary);
+  }
+  std::filesystem::rename(temporary, path);
+}
+
+std::string boundAddress(const std::string& listen, int port) {
+  auto [host, ignored] = splitHostPort(listen, "--listen");
+  return host.find(':') != std::string::npos ? fmt::format("[{}]:{}", host, port)
+                                             : fmt::format("{}:{}", host, port);
+}
+
+std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
+                                              const std::vector<grpc::Service*>& services,
+                                              bool reflection, ServerMetrics& metrics, int* port) {
+  grpc::EnableDefaultHealthCheckService(true);
+  if (reflection) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(config.listen, serverCredentials(config), port);
+  for (grpc::Service* service : services) builder.RegisterService(service);
+  grpc::ResourceQuota quota("tessera-server");
+  quota.SetMaxThreads(kMaxServerThreads);
+  builder.SetResourceQuota(quota);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> observers;
+  observers.push_back(std::make_unique<RequestObserverFactory>(metrics));
+  builder.experimental().SetInterceptorCreators(std::move(observers));
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || *port == 0) return nullptr;
+  server->GetHealthCheckService()->SetServingStatus(true);
+  return server;
+}
+
+std::unique_ptr<MetricsHttpServer> startMetricsServer(const ServerConfig& config,
+                                                      const MetricsRegistry& registry) {
+  if (config.metricsListen == "off" || config.metricsListen.empty()) return nullptr;
+  auto server = std::make_unique<MetricsHttpServer>(config.metricsListen,
+                                                    [&registry] { return registry.render(); });
+  server->start();
+  return server;
+}
+
+// Load balancers see NOT_SERVING first; running calls then get the grace period to finish.
+void shutDown(grpc::Server& server, double graceSeconds) {
+  server.GetHealthCheckService()->SetServingStatus(false);
+  auto grace = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::duration<double>(graceSeconds));
+  server.Shutdown(std::chrono::system_clock::now() + grace);
+  server.Wait();
+}
+
+int waitForStopSignal(const sigset_t& signals) {
+  int received = 0;
+  while (sigwait(&signals, &received) != 0) {
+  }
+  return received;
+}
+
+}  // namespace
+
+int runServer(const ServerConfig& config) {
+  // Blocked here, before any thread starts, so that every thread inherits the mask and the
+  // signals reach only sigwait() below.
+  sigset_t stopSignals;
+  sigemptyset(&stopSignals);
+  sigaddset(&stopSignals, SIGINT);
+  sigaddset(&stopSignals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
+
+  std::unique_ptr<MeshStore> store = openMeshStore(config.store);
+  MetricsRegistry registry;
+  ServerMetrics metrics(registry);
+  MeshRepository repository(*store, static_cast<size_t>(config.cacheBytes));
+  AdmissionControl admission(config.maxConcurrentJobs, config.maxQueuedJobs);
+  std::unique_ptr<TessellationEngine> engine = makeEngine(config);
+  BearerAuth auth(config.token);
+  registerSampledMetrics(registry, repository, admission);
+
+  MeshServiceImpl meshService(repository, admission, auth, config.upload, metrics);
+  TessellationServiceImpl tessellationService(repository, admission, *engine, auth,
+                                              config.tessellation, metrics);
+  ServerInfoServiceImpl infoService(describeServer(config, *engine, store->kind()), auth);
+
+  // Reflection cannot be put behind the bearer token, so a server with a token does not offer it.
+  bool reflection = config.reflection && config.token.empty();
+  int port = 0;
+  std::unique_ptr<grpc::Server> server = startGrpcServer(
+      config, {&meshService, &tessellationService, &infoService}, reflection, metrics, &port);
+  if (!server) {
+    spdlog::critical("cannot listen on {}", config.listen);
+    return 1;
+  }
+  std::unique_ptr<MetricsHttpServer> metricsServer = startMetricsServer(config, registry);
+  std::string address = boundAddress(config.listen, port);
+  spdlog::info("tessera-server {} listening on {} (store {}, {} TLS, auth {}, reflection {}, "
+               "metrics {})",
+               TESSERA_VERSION, address, store->kind(), config.tlsCert.empty() ? "no" : "with",
+               auth.enabled() ? "on" : "off", reflection ? "on" : "off",
+               metricsServer ? metricsServer->address() : "off");
+  if (!config.readyFile.empty()) {
+    writeReadyFile(config.readyFile, address, metricsServer ? metricsServer->address() : "");
+  }
+
+  int signal = waitForStopSignal(stopSignals);
+  spdlog::info("signal {} received: shutting down", signal);
+  shutDown(*server, config.shutdownGraceSeconds);
+  if (metricsServer) metricsServer->stop();
+  spdlog::info("stopped");
+  return 0;
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,44 @@
+// tessera-server's settings. Each comes from, in order of precedence, a command-line flag, the
+// config file (--config FILE: TOML-style "flag = value" lines, flag names without the dashes,
+// unknown names refused), an environment variable (TESSERA_<FLAG>, e.g. TESSERA_LISTEN), or its
+// default. (The config file outranks the environment because CLI11 processes them that way.)
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+
+#include "server/mesh_upload.h"
+#include "server/tessellate_request.h"
+
+namespace tessera::server {
+
+struct ServerConfig {
+  std::string listen = "127.0.0.1:50051";
+  std::string store = "sqlite:tessera.db";
+  std::string token;
+  std::string tokenFile;
+  std::string tlsCert;
+  std::string tlsKey;
+  std::string metricsListen = "127.0.0.1:9464";  // "off" disables
+  std::string readyFile;
+  std::string logLevel = "info";
+  bool reflection = true;
+  int64_t cacheBytes = 512LL << 20;
+  int maxConcurrentJobs = 0;  // 0: the number of hardware threads
+  int maxQueuedJobs = -1;     // negative: 4 x maxConcurrentJobs
+  double shutdownGraceSeconds = 5.0;
+  UploadLimits upload;
+  TessellationLimits tessellation;
+  std::string testEngine;  // hidden: "block" or "pattern", for the server's own tests
+};
+
+// Registers every flag (with its environment variable) and --config on app.
+void addServerOptions(CLI::App& app, ServerConfig& config);
+
+// After parsing: reads --token-file, fills derived defaults and checks values; throws
+// std::invalid_argument naming the flag.
+void finalizeServerConfig(ServerConfig& config);
+
+}  // namespace tessera::server

@@ -1,0 +1,113 @@
+// The seam between the service and the geometry: the server validates a Tessellate request,
+// admits it, loads the mesh and then hands one TessellationJob to a TessellationEngine, which
+// returns a GLB file and the numbers for the summary. Everything gRPC stays on the server side,
+// so an engine is plain C++ over core/ (and gpu/) that tests can drive directly.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/control_mesh.h"
+#include "core/vec3.h"
+#include "server/cancellation.h"
+
+namespace tessera::server {
+
+// A pinhole camera for pixel-accurate (view-dependent) tolerance. Already validated: finite,
+// eye != target, up not parallel to the view direction, 0 < fovYDeg < 180, width, height >= 1.
+struct CameraSpec {
+  Vec3d eye;
+  Vec3d target;
+  Vec3d up;
+  double fovYDeg = 45.0;
+  int width = 0;
+  int height = 0;
+};
+
+enum class ToleranceMode {
+  kNone,      // no ε: uniformLevel alone decides (benchmark mode)
+  kAbsolute,  // the request gave ε in model units
+  kRelative,  // the request gave ε as a fraction of the bounding-box diagonal (converted below)
+  kPixel,     // the request gave a camera and an accuracy in pixels
+};
+
+struct TessellationJob {
+  std::string meshId;
+  // SHA-256 of the mesh's canonical content: a cache key for derived data (patch sets) that
+  // changes whenever a mesh is deleted and re-uploaded under the same id.
+  std::string meshSha256;
+  ToleranceMode toleranceMode = ToleranceMode::kAbsolute;
+  // ε in model units for kAbsolute and kRelative (already multiplied by the diagonal); 0 for
+  // kPixel, where the bound varies over the surface with the distance to the camera, and kNone.
+  double tolerance = 0.0;
+  // kPixel only.
+  std::optional<CameraSpec> camera;
+  double pixelAccuracy = 0.5;
+  // Share of ε spent on ring refinement depth (the rest on the tessellation), in (0, 1).
+  double eta = 0.5;
+  // > 0: tessellate every patch uniformly at this level instead of the level ε implies.
+  int uniformLevel = 0;
+  // The engine refuses (TesseraError kLimitExceeded) to produce more triangles than this.
+  int64_t maxTriangles = 0;
+  // Progress of the whole job in [0, 1] under a short stage name ("refining", "tessellating",
+  // "encoding"); may be empty. Call it from the thread that called run().
+  std::function<void(std::string_view stage, double fraction)> reportProgress;
+};
+
+struct StageTime {
+  std::string stage;
+  double seconds = 0.0;
+};
+
+// What the server reports in tessera.v1.TessellationSummary (core's tessera::TessellationSummary
+// is what the CPU engine computes it from).
+struct TessellationSummary {
+  int64_t triangles = 0;
+  int64_t patches = 0;
+  int64_t rings = 0;  // extraordinary rings refined by FAS
+  double averageDepth = 0.0;
+  int maxDepth = 0;
+  double guaranteedBound = 0.0;  // proven distance bound to the limit surface, model units
+  double tolerance = 0.0;        // ε the engine used (smallest per-piece ε in pixel mode); 0: job's
+  std::vector<StageTime> timings;
+};
+
+struct TessellationOutput {
+  std::vector<uint8_t> glb;  // a complete GLB file
+  TessellationSummary summary;
+};
+
+// Thrown by an engine that cannot tessellate at all in this build or on this machine; the
+// server answers UNIMPLEMENTED with the message.
+class TessellationUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class TessellationEngine {
+ public:
+  virtual ~TessellationEngine() = default;
+
+  // Backend name for GetServerInfo ("cpu", "cuda", ...).
+  virtual std::string name() const = 0;
+  // Whether run() can produce results; false makes GetServerInfo say so.
+  virtual bool available() const = 0;
+  // Why it is unavailable, or what it runs on, for GetServerInfo.
+  virtual std::string detail() const = 0;
+
+  // Tessellates mesh (already validated, manifold) as job asks. Polls cancel often enough to
+  // stop within a fraction of a second and then throws OperationCancelled (core's
+  // TessellationOptions::checkpoint can call cancel.throwIfCancelled()). Reports bad or
+  // unsupported input and exceeded budgets by throwing TesseraError (the server maps the kind
+  // to INVALID_ARGUMENT / UNIMPLEMENTED / RESOURCE_EXHAUSTED). Called concurrently from several
+  // threads, up to the server's max concurrent jobs.
+  virtual TessellationOutput run(const ControlMesh& mesh, const TessellationJob& job,
+                                 const CancellationToken& cancel) = 0;
+};
+
+}  // namespace tessera::server

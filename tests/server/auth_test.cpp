@@ -1,0 +1,55 @@
+// Bearer-token authentication beyond the catalogue's refusals: health stays open for probes,
+// the token can come from a file or the environment, and reflection is withheld.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "tests/server/server_process.h"
+#include "tests/server/test_support.h"
+
+namespace tessera::test {
+namespace {
+
+grpc::Status serverInfo(ServerProcess& server, const std::string& token) {
+  auto stub = v1::ServerInfoService::NewStub(server.channel());
+  grpc::ClientContext context;
+  prepare(context, token);
+  v1::ServerInfo info;
+  return stub->GetServerInfo(&context, {}, &info);
+}
+
+TEST(Auth, HealthChecksNeedNoTokenWhileEveryOtherCallDoes) {
+  TempDir dir;
+  // start() itself waits for SERVING through an unauthenticated health check.
+  auto server = ServerProcess::start(
+      dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string(), "--token", "s3cret"});
+  ASSERT_TRUE(server);
+  auto health = grpc::health::v1::Health::NewStub(server->channel());
+  grpc::ClientContext context;
+  prepare(context);
+  grpc::health::v1::HealthCheckResponse response;
+  ASSERT_TRUE(health->Check(&context, {}, &response).ok());
+  EXPECT_EQ(response.status(), grpc::health::v1::HealthCheckResponse::SERVING);
+  EXPECT_EQ(serverInfo(*server, "").error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_TRUE(serverInfo(*server, "s3cret").ok());
+  EXPECT_NE(server->log().find("reflection off"), std::string::npos);
+}
+
+TEST(Auth, TheTokenCanComeFromAFileOrTheEnvironment) {
+  TempDir dir;
+  std::filesystem::path tokenFile = dir.path() / "token";
+  std::ofstream(tokenFile) << "from-file\n";
+  auto fromFile = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "a.db").string(),
+                                                    "--token-file", tokenFile.string()});
+  auto fromEnv = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "b.db").string()},
+                                      {{"TESSERA_TOKEN", "from-env"}});
+  ASSERT_TRUE(fromFile && fromEnv);
+  EXPECT_TRUE(serverInfo(*fromFile, "from-file").ok());
+  EXPECT_EQ(serverInfo(*fromFile, "from-env").error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_TRUE(serverInfo(*fromEnv, "from-env").ok());
+  EXPECT_EQ(serverInfo(*fromEnv, "").error_code(), grpc::StatusCode::UNAUTHENTICATED);
+}
+
+}  // namespace
+}  // namespace tessera::test

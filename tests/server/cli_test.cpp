@@ -1,0 +1,153 @@
+// The `tessera` CLI's remote commands against a real server: what they print, the files they
+// write and their exit codes (client/commands.h). Skipped when the CLI was not built.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "tests/server/server_process.h"
+#include "tests/server/test_support.h"
+
+namespace tessera::test {
+namespace {
+
+// Exit codes from client/commands.h.
+constexpr int kExitOk = 0;
+constexpr int kExitUsage = 2;
+constexpr int kExitInvalidInput = 3;
+constexpr int kExitLimit = 5;
+constexpr int kExitRemote = 7;
+
+struct CliRun {
+  int code;
+  std::string output;
+};
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(TESSERA_CLI_BINARY)) {
+      GTEST_SKIP() << "the tessera CLI was not built (" << TESSERA_CLI_BINARY << ")";
+    }
+  }
+
+  void startServer(std::vector<std::string> flags = {}) {
+    flags.insert(flags.end(), {"--store", "sqlite:" + (dir_.path() / "m.db").string()});
+    server_ = ServerProcess::start(dir_.path(), flags);
+    ASSERT_TRUE(server_);
+  }
+
+  // Runs `tessera --server ADDRESS args` with stderr folded into the output.
+  CliRun tessera(const std::string& args, const std::string& environment = "") {
+    std::string command = "env -u TESSERA_SERVER -u TESSERA_TOKEN " + environment + " " +
+                          TESSERA_CLI_BINARY + " --server " + server_->address() + " " + args +
+                          " 2>&1";
+    CliRun run{-1, ""};
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return run;
+    char buffer[4096];
+    for (size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) run.output.append(buffer, n);
+    int status = pclose(pipe);
+    run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return run;
+  }
+
+  TempDir dir_;
+  std::unique_ptr<ServerProcess> server_;
+};
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// The local `tessellate` owns the subcommand and must hand meshes/ names to the remote form
+// (client/remote_tessellate.h); until it does, it tries to open them as files.
+#define SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(run)                                              \
+  if (contains((run).output, "OBJ file 'meshes/")) {                                             \
+    GTEST_SKIP() << "the local tessellate command does not dispatch meshes/ names to "           \
+                    "runRemoteTessellate() yet: "                                                 \
+                 << (run).output;                                                                 \
+  }
+
+TEST_F(CliTest, UploadListGetDeleteInfoAndHealth) {
+  startServer();
+  CliRun upload = tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy");
+  EXPECT_EQ(upload.code, kExitOk) << upload.output;
+  EXPECT_TRUE(contains(upload.output, "meshes/bigguy")) << upload.output;
+  EXPECT_TRUE(contains(upload.output, "1452")) << upload.output;
+
+  CliRun list = tessera("list --page-size 1");
+  EXPECT_EQ(list.code, kExitOk) << list.output;
+  EXPECT_TRUE(contains(list.output, "meshes/bigguy")) << list.output;
+
+  CliRun get = tessera("get meshes/bigguy");
+  EXPECT_EQ(get.code, kExitOk) << get.output;
+  EXPECT_TRUE(contains(get.output, "1450")) << get.output;
+
+  CliRun info = tessera("info");
+  EXPECT_EQ(info.code, kExitOk) << info.output;
+  EXPECT_TRUE(contains(info.output, "tessellation  available")) << info.output;
+  EXPECT_TRUE(contains(info.output, "cpu")) << info.output;
+
+  CliRun health = tessera("health");
+  EXPECT_EQ(health.code, kExitOk) << health.output;
+  EXPECT_TRUE(contains(health.output, "SERVING")) << health.output;
+
+  CliRun removed = tessera("delete meshes/bigguy");
+  EXPECT_EQ(removed.code, kExitOk) << removed.output;
+  CliRun missing = tessera("get meshes/bigguy");
+  EXPECT_EQ(missing.code, kExitRemote);
+  EXPECT_TRUE(contains(missing.output, "NOT_FOUND: mesh meshes/bigguy not found")) << missing.output;
+}
+
+TEST_F(CliTest, ErrorsPrintTheStatusCodeNameAndMessage) {
+  startServer();
+  ASSERT_EQ(tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy").code, kExitOk);
+  CliRun unknown = tessera("tessellate meshes/ghost --tolerance 0.01 -o " +
+                           (dir_.path() / "out.glb").string());
+  SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(unknown);
+  EXPECT_EQ(unknown.code, kExitRemote) << unknown.output;
+  EXPECT_TRUE(contains(unknown.output, "NOT_FOUND: mesh meshes/ghost not found")) << unknown.output;
+  // A failed call leaves no output file, not even a partial one.
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "out.glb"));
+  EXPECT_FALSE(std::filesystem::exists(dir_.path() / "out.glb.partial"));
+
+  CliRun tooFine = tessera("tessellate meshes/bigguy --tolerance 1e-9 --relative -o x.glb");
+  EXPECT_EQ(tooFine.code, kExitLimit) << tooFine.output;
+  EXPECT_TRUE(contains(tooFine.output, "RESOURCE_EXHAUSTED: relative:")) << tooFine.output;
+
+  CliRun noTolerance = tessera("tessellate meshes/bigguy -o x.glb");
+  EXPECT_EQ(noTolerance.code, kExitUsage) << noTolerance.output;
+  EXPECT_TRUE(contains(noTolerance.output, "give --tolerance, --level, or a camera"))
+      << noTolerance.output;
+
+  CliRun camera = tessera("tessellate meshes/bigguy --eye 0,0,10 --target 0,0,0 --fov 0 -o " +
+                          (dir_.path() / "cam.glb").string());
+  EXPECT_EQ(camera.code, kExitInvalidInput) << camera.output;
+  EXPECT_TRUE(contains(camera.output, "INVALID_ARGUMENT: pixel.camera.fov_y_deg")) << camera.output;
+}
+
+TEST_F(CliTest, TessellateWritesTheStreamedFileAfterCheckingIt) {
+  startServer({"--test-engine", "pattern"});
+  ASSERT_EQ(tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy").code, kExitOk);
+  std::filesystem::path out = dir_.path() / "bigguy.glb";
+  CliRun run = tessera("tessellate meshes/bigguy --tolerance 0.001 --relative -o " + out.string());
+  SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(run);
+  EXPECT_EQ(run.code, kExitOk) << run.output;
+  std::string written = readFile(out);
+  ASSERT_EQ(written.size(), 200'003u);  // the pattern engine's output (server/test_engines.h)
+  EXPECT_EQ(static_cast<uint8_t>(written[1000]), static_cast<uint8_t>((1000 * 131 + (1000 >> 8)) & 0xff));
+}
+
+TEST_F(CliTest, TheTokenComesFromTheEnvironment) {
+  startServer({"--token", "cli-secret"});
+  CliRun refused = tessera("list");
+  EXPECT_EQ(refused.code, kExitRemote);
+  EXPECT_TRUE(contains(refused.output, "UNAUTHENTICATED")) << refused.output;
+  CliRun accepted = tessera("list", "TESSERA_TOKEN=cli-secret");
+  EXPECT_EQ(accepted.code, kExitOk) << accepted.output;
+}
+
+}  // namespace
+}  // namespace tessera::test

@@ -1,0 +1,67 @@
+// The Prometheus endpoint: text format over HTTP, counting requests by method and status code,
+// upload bytes, cache use and store size.
+#include <gtest/gtest.h>
+
+#include <regex>
+
+#include "tests/server/server_process.h"
+#include "tests/server/test_support.h"
+
+namespace tessera::test {
+namespace {
+
+// The value of the series exactly as written (name with labels), or -1 if absent.
+double seriesValue(const std::string& text, const std::string& series) {
+  size_t at = text.find("\n" + series + " ");
+  if (at == std::string::npos) return -1;
+  return std::stod(text.substr(at + series.size() + 2));
+}
+
+TEST(Metrics, ScrapesCountRequestsByMethodAndStatusAndTrackUploadsAndTheStore) {
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  auto stub = v1::MeshService::NewStub(server->channel());
+  MeshArrays mesh = gridMesh(3, 0);
+  ASSERT_TRUE(uploadMessages(*stub, arraysUpload("counted", mesh)).status.ok());
+  for (int i = 0; i < 2; ++i) {
+    grpc::ClientContext context;
+    prepare(context);
+    v1::GetMeshRequest request;
+    request.set_name("meshes/missing");
+    v1::Mesh out;
+    ASSERT_EQ(stub->GetMesh(&context, request, &out).error_code(), grpc::StatusCode::NOT_FOUND);
+  }
+  grpc::Status status;
+  downloadMesh(*stub, "counted", &status);  // served from the cache filled by the upload
+
+  std::string response = httpGet(server->metricsAddress(), "/metrics");
+
+  ASSERT_NE(response.find("HTTP/1.1 200 OK"), std::string::npos) << response;
+  EXPECT_NE(response.find("Content-Type: text/plain; version=0.0.4"), std::string::npos);
+  EXPECT_EQ(seriesValue(response, "tessera_requests_total{method=\"/tessera.v1.MeshService/GetMesh\","
+                                  "code=\"NOT_FOUND\"}"),
+            2);
+  EXPECT_EQ(seriesValue(response, "tessera_requests_total{method=\"/tessera.v1.MeshService/UploadMesh\","
+                                  "code=\"OK\"}"),
+            1);
+  EXPECT_EQ(seriesValue(response, "tessera_request_duration_seconds_count{method="
+                                  "\"/tessera.v1.MeshService/GetMesh\"}"),
+            2);
+  EXPECT_EQ(seriesValue(response, "tessera_upload_bytes_total"), double(mesh.uploadBytes()));
+  EXPECT_EQ(seriesValue(response, "tessera_cache_hits_total"), 1);
+  EXPECT_EQ(seriesValue(response, "tessera_store_meshes"), 1);
+  EXPECT_EQ(seriesValue(response, "tessera_store_bytes"), double(canonicalEncoding(mesh).size()));
+  EXPECT_EQ(seriesValue(response, "tessera_queue_depth"), 0);
+  EXPECT_EQ(seriesValue(response, "tessera_triangles_produced_total"), 0);
+}
+
+TEST(Metrics, OtherPathsAreNotFound) {
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  EXPECT_NE(httpGet(server->metricsAddress(), "/").find("404 Not Found"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tessera::test

@@ -1,0 +1,335 @@
+#include "tests/server/test_support.h"
+
+#include <arpa/inet.h>
+#include <fmt/format.h>
+#include <libpq-fe.h>
+#include <netdb.h>
+#include <openssl/evp.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace tessera::test {
+namespace {
+
+std::string runAdmin(const std::string& url, const std::string& sql) {
+  PGconn* c = PQconnectdb(url.c_str());
+  std::string error;
+  if (PQstatus(c) != CONNECTION_OK) {
+    error = PQerrorMessage(c);
+  } else {
+    PGresult* r = PQexec(c, sql.c_str());
+    if (PQresultStatus(r) != PGRES_COMMAND_OK) error = PQresultErrorMessage(r);
+    PQclear(r);
+  }
+  PQfinish(c);
+  return error;
+}
+
+// The URL with its database name replaced: postgresql://user@host:port/DB?options.
+std::string withDatabase(const std::string& url, const std::string& database) {
+  size_t hostStart = url.find("://");
+  size_t pathStart = url.find('/', hostStart == std::string::npos ? 0 : hostStart + 3);
+  size_t query = url.find('?');
+  std::string base = url.substr(0, std::min(pathStart, query));
+  std::string rest = query == std::string::npos ? "" : url.substr(query);
+  return base + "/" + database + rest;
+}
+
+void appendLe(std::string& out, uint64_t value, int bytes) {
+  for (int i = 0; i < bytes; ++i) out += static_cast<char>((value >> (8 * i)) & 0xff);
+}
+
+// Resolves an OBJ index (1-based, or negative from the end) to 0-based.
+int32_t objIndex(const std::string& token, size_t vertexCount) {
+  int value = std::stoi(token.substr(0, token.find('/')));
+  return value < 0 ? static_cast<int32_t>(vertexCount) + value : value - 1;
+}
+
+}  // namespace
+
+TempDir::TempDir() {
+  std::string pattern = (std::filesystem::temp_directory_path() / "tessera-server-test-XXXXXX").string();
+  if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed");
+  path_ = pattern;
+}
+
+TempDir::~TempDir() {
+  std::error_code ignored;
+  std::filesystem::remove_all(path_, ignored);
+}
+
+std::unique_ptr<PostgresDatabase> PostgresDatabase::create(std::string* whyNot) {
+  const char* adminUrl = std::getenv(kPostgresUrlVariable);
+  if (!adminUrl || !*adminUrl) {
+    *whyNot = fmt::format("{} is not set; `tools/pg-test-cluster.sh start` prints a URL for it",
+                          kPostgresUrlVariable);
+    return nullptr;
+  }
+  static std::atomic<int> serial{0};
+  std::string name = fmt::format("tessera_test_{}_{}", getpid(), serial++);
+  std::string error = runAdmin(adminUrl, "CREATE DATABASE " + name);
+  if (!error.empty()) {
+    *whyNot = fmt::format("cannot create a database on {}: {}", adminUrl, error);
+    return nullptr;
+  }
+  return std::unique_ptr<PostgresDatabase>(
+      new PostgresDatabase(adminUrl, name, withDatabase(adminUrl, name)));
+}
+
+PostgresDatabase::PostgresDatabase(std::string adminUrl, std::string name, std::string url)
+    : adminUrl_(std::move(adminUrl)), name_(std::move(name)), url_(std::move(url)) {}
+
+PostgresDatabase::~PostgresDatabase() {
+  // FORCE: a SIGKILLed server may leave a connection the cluster has not noticed yet.
+  if (!name_.empty()) runAdmin(adminUrl_, "DROP DATABASE IF EXISTS " + name_ + " WITH (FORCE)");
+}
+
+bool MeshArrays::operator==(const MeshArrays& o) const {
+  auto sameCreases = [&] {
+    if (creases.size() != o.creases.size()) return false;
+    for (size_t i = 0; i < creases.size(); ++i) {
+      if (creases[i].v0 != o.creases[i].v0 || creases[i].v1 != o.creases[i].v1 ||
+          std::bit_cast<uint32_t>(creases[i].sharpness) != std::bit_cast<uint32_t>(o.creases[i].sharpness))
+        return false;
+    }
+    return true;
+  };
+  auto sameCorners = [&] {
+    if (corners.size() != o.corners.size()) return false;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      if (corners[i].vertex != o.corners[i].vertex ||
+          std::bit_cast<uint32_t>(corners[i].sharpness) != std::bit_cast<uint32_t>(o.corners[i].sharpness))
+        return false;
+    }
+    return true;
+  };
+  // Positions compare bit for bit: "intact" means byte-equal, not nearly equal.
+  auto samePositions = [&] {
+    if (positions.size() != o.positions.size()) return false;
+    for (size_t i = 0; i < positions.size(); ++i) {
+      if (std::bit_cast<uint32_t>(positions[i]) != std::bit_cast<uint32_t>(o.positions[i])) return false;
+    }
+    return true;
+  };
+  return samePositions() && faceSizes == o.faceSizes && faceVertices == o.faceVertices &&
+         sameCreases() && sameCorners() && holes == o.holes;
+}
+
+int64_t MeshArrays::uploadBytes() const {
+  return 4 * static_cast<int64_t>(positions.size() + faceSizes.size() + faceVertices.size() +
+                                  holes.size()) +
+         12 * static_cast<int64_t>(creases.size()) + 8 * static_cast<int64_t>(corners.size());
+}
+
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::filesystem::path modelPath(const std::string& name) {
+  return std::filesystem::path(TESSERA_MODELS_DIR) / name;
+}
+
+MeshArrays parseObjVerticesAndFaces(const std::string& text) {
+  MeshArrays mesh;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string kind;
+    words >> kind;
+    if (kind == "v") {
+      float x, y, z;
+      words >> x >> y >> z;
+      mesh.positions.insert(mesh.positions.end(), {x, y, z});
+    } else if (kind == "f") {
+      int32_t size = 0;
+      for (std::string token; words >> token; ++size) {
+        mesh.faceVertices.push_back(objIndex(token, mesh.vertexCount()));
+      }
+      mesh.faceSizes.push_back(size);
+    }
+  }
+  return mesh;
+}
+
+MeshArrays gridMesh(int n, int seed) {
+  MeshArrays mesh;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      float height = 0.25f * std::sin(0.7f * i + 1.3f * j + 0.37f * seed);
+      mesh.positions.insert(mesh.positions.end(), {float(i), float(j), height});
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      int32_t v = j * (n + 1) + i;
+      mesh.faceSizes.push_back(4);
+      mesh.faceVertices.insert(mesh.faceVertices.end(), {v, v + 1, v + n + 2, v + n + 1});
+    }
+  }
+  return mesh;
+}
+
+std::string canonicalEncoding(const MeshArrays& m, uint32_t boundary) {
+  std::string out = "TSM1";
+  appendLe(out, boundary, 4);
+  appendLe(out, m.vertexCount(), 8);
+  for (float f : m.positions) appendLe(out, std::bit_cast<uint32_t>(f), 4);
+  appendLe(out, m.faceSizes.size(), 8);
+  for (int32_t n : m.faceSizes) appendLe(out, static_cast<uint32_t>(n), 4);
+  appendLe(out, m.faceVertices.size(), 8);
+  for (int32_t v : m.faceVertices) appendLe(out, static_cast<uint32_t>(v), 4);
+  appendLe(out, m.creases.size(), 8);
+  for (const auto& c : m.creases) {
+    appendLe(out, static_cast<uint32_t>(c.v0), 4);
+    appendLe(out, static_cast<uint32_t>(c.v1), 4);
+    appendLe(out, std::bit_cast<uint32_t>(c.sharpness), 4);
+  }
+  appendLe(out, m.corners.size(), 8);
+  for (const auto& c : m.corners) {
+    appendLe(out, static_cast<uint32_t>(c.vertex), 4);
+    appendLe(out, std::bit_cast<uint32_t>(c.sharpness), 4);
+  }
+  appendLe(out, m.holes.size(), 8);
+  for (int32_t h : m.holes) appendLe(out, static_cast<uint32_t>(h), 4);
+  return out;
+}
+
+std::string sha256Hex(const std::string& bytes) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_Digest(bytes.data(), bytes.size(), digest, &length, EVP_sha256(), nullptr);
+  std::string hex;
+  for (unsigned int i = 0; i < length; ++i) hex += fmt::format("{:02x}", digest[i]);
+  return hex;
+}
+
+void prepare(grpc::ClientContext& context, const std::string& token, int seconds) {
+  if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(seconds));
+}
+
+UploadResult uploadMessages(v1::MeshService::Stub& stub,
+                            const std::vector<v1::UploadMeshRequest>& messages,
+                            const std::string& token) {
+  UploadResult result;
+  grpc::ClientContext context;
+  prepare(context, token);
+  auto writer = stub.UploadMesh(&context, &result.mesh);
+  for (const auto& message : messages) {
+    if (!writer->Write(message)) break;  // the server has answered already
+  }
+  writer->WritesDone();
+  result.status = writer->Finish();
+  return result;
+}
+
+v1::UploadMeshRequest headerMessage(const std::string& id, v1::MeshFormat format, int64_t totalBytes,
+                                    const std::string& displayName) {
+  v1::UploadMeshRequest message;
+  v1::UploadMeshHeader* header = message.mutable_header();
+  header->set_mesh_id(id);
+  header->set_display_name(displayName);
+  header->set_format(format);
+  header->set_total_bytes(totalBytes);
+  return message;
+}
+
+std::vector<v1::UploadMeshRequest> arraysUpload(const std::string& id, const MeshArrays& mesh,
+                                                size_t floatsPerChunk) {
+  std::vector<v1::UploadMeshRequest> messages{
+      headerMessage(id, v1::MESH_FORMAT_ARRAYS, mesh.uploadBytes())};
+  for (size_t begin = 0; begin < mesh.positions.size(); begin += floatsPerChunk) {
+    v1::UploadMeshRequest chunk;
+    size_t end = std::min(begin + floatsPerChunk, mesh.positions.size());
+    for (size_t i = begin; i < end; ++i) chunk.mutable_arrays()->add_positions(mesh.positions[i]);
+    messages.push_back(chunk);
+  }
+  v1::UploadMeshRequest rest;
+  v1::MeshArrays* a = rest.mutable_arrays();
+  for (int32_t n : mesh.faceSizes) a->add_face_sizes(n);
+  for (int32_t v : mesh.faceVertices) a->add_face_vertices(v);
+  for (const auto& c : mesh.creases) {
+    v1::Crease* crease = a->add_creases();
+    crease->set_v0(c.v0), crease->set_v1(c.v1), crease->set_sharpness(c.sharpness);
+  }
+  for (const auto& c : mesh.corners) {
+    v1::Corner* corner = a->add_corners();
+    corner->set_vertex(c.vertex), corner->set_sharpness(c.sharpness);
+  }
+  for (int32_t h : mesh.holes) a->add_holes(h);
+  messages.push_back(rest);
+  return messages;
+}
+
+std::vector<v1::UploadMeshRequest> objUpload(const std::string& id, const std::string& text,
+                                             size_t bytesPerChunk, const std::string& displayName) {
+  std::vector<v1::UploadMeshRequest> messages{
+      headerMessage(id, v1::MESH_FORMAT_OBJ, static_cast<int64_t>(text.size()), displayName)};
+  for (size_t begin = 0; begin < text.size(); begin += bytesPerChunk) {
+    v1::UploadMeshRequest chunk;
+    chunk.set_obj_data(text.substr(begin, bytesPerChunk));
+    messages.push_back(chunk);
+  }
+  return messages;
+}
+
+MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc::Status* status,
+                        v1::Mesh* metadata) {
+  grpc::ClientContext context;
+  prepare(context);
+  v1::DownloadMeshRequest request;
+  request.set_name("meshes/" + id);
+  auto reader = stub.DownloadMesh(&context, request);
+  MeshArrays mesh;
+  v1::DownloadMeshResponse message;
+  while (reader->Read(&message)) {
+    if (message.has_mesh() && metadata) *metadata = message.mesh();
+    const v1::MeshArrays& a = message.arrays();
+    mesh.positions.insert(mesh.positions.end(), a.positions().begin(), a.positions().end());
+    mesh.faceSizes.insert(mesh.faceSizes.end(), a.face_sizes().begin(), a.face_sizes().end());
+    mesh.faceVertices.insert(mesh.faceVertices.end(), a.face_vertices().begin(),
+                             a.face_vertices().end());
+    for (const auto& c : a.creases()) mesh.creases.push_back({c.v0(), c.v1(), c.sharpness()});
+    for (const auto& c : a.corners()) mesh.corners.push_back({c.vertex(), c.sharpness()});
+    mesh.holes.insert(mesh.holes.end(), a.holes().begin(), a.holes().end());
+  }
+  *status = reader->Finish();
+  return mesh;
+}
+
+std::string httpGet(const std::string& address, const std::string& path) {
+  size_t colon = address.rfind(':');
+  addrinfo hints{};
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(address.substr(0, colon).c_str(), address.substr(colon + 1).c_str(), &hints,
+                  &found) != 0) {
+    return "";
+  }
+  int fd = socket(found->ai_family, SOCK_STREAM, 0);
+  bool connected = fd >= 0 && connect(fd, found->ai_addr, found->ai_addrlen) == 0;
+  freeaddrinfo(found);
+  std::string response;
+  if (connected) {
+    std::string request = "GET " + path + " HTTP/1.1\r\nHost: test\r\nConnection: close\r\n\r\n";
+    if (send(fd, request.data(), request.size(), MSG_NOSIGNAL) == ssize_t(request.size())) {
+      char buffer[4096];
+      for (ssize_t n; (n = recv(fd, buffer, sizeof buffer, 0)) > 0;) response.append(buffer, n);
+    }
+  }
+  if (fd >= 0) close(fd);
+  return response;
+}
+
+}  // namespace tessera::test

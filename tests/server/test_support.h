@@ -1,0 +1,110 @@
+// What the server tests share: temporary folders, a PostgreSQL database per test, mesh fixtures
+// built independently of the server's code (an OBJ reader for v/f lines, grids, the canonical
+// encoding as mesh.proto documents it), and raw gRPC helpers that send exactly the messages a
+// test chooses, malformed ones included.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tessera/v1/mesh.grpc.pb.h"
+#include "tessera/v1/server_info.grpc.pb.h"
+#include "tessera/v1/tessellation.grpc.pb.h"
+
+namespace tessera::test {
+
+namespace v1 = tessera::v1;
+
+// A folder under /tmp removed with everything in it when the object goes.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// A PostgreSQL database of its own for one test, created on the cluster named by
+// TESSERA_TEST_POSTGRES_URL and dropped afterwards.
+class PostgresDatabase {
+ public:
+  // Null (with the reason in *whyNot) when the variable is unset or the cluster unreachable.
+  static std::unique_ptr<PostgresDatabase> create(std::string* whyNot);
+  PostgresDatabase(const PostgresDatabase&) = delete;
+  PostgresDatabase& operator=(const PostgresDatabase&) = delete;
+  ~PostgresDatabase();
+  const std::string& url() const { return url_; }
+
+ private:
+  PostgresDatabase(std::string adminUrl, std::string name, std::string url);
+  std::string adminUrl_, name_, url_;
+};
+
+inline constexpr const char* kPostgresUrlVariable = "TESSERA_TEST_POSTGRES_URL";
+
+// A control mesh as plain arrays, the way a client holds one.
+struct MeshArrays {
+  std::vector<float> positions;
+  std::vector<int32_t> faceSizes;
+  std::vector<int32_t> faceVertices;
+  struct Crease { int32_t v0, v1; float sharpness; };
+  struct Corner { int32_t vertex; float sharpness; };
+  std::vector<Crease> creases;
+  std::vector<Corner> corners;
+  std::vector<int32_t> holes;
+
+  bool operator==(const MeshArrays& other) const;
+  size_t vertexCount() const { return positions.size() / 3; }
+  // Bytes an ARRAYS upload declares in total_bytes (mesh.proto's rule).
+  int64_t uploadBytes() const;
+};
+
+std::string readFile(const std::filesystem::path& path);
+std::filesystem::path modelPath(const std::string& name);
+
+// Reads "v x y z" and "f a b c ..." (a, a/t, a//n, a/t/n; 1-based or negative) lines only.
+MeshArrays parseObjVerticesAndFaces(const std::string& text);
+// An n x n grid of quads whose heights depend on seed, so that meshes differ in content.
+MeshArrays gridMesh(int n, int seed);
+
+// The canonical encoding exactly as tessera.v1.Mesh.sha256 documents it, boundary = 1 or 2.
+std::string canonicalEncoding(const MeshArrays& mesh, uint32_t boundary = 1);
+std::string sha256Hex(const std::string& bytes);
+
+// Adds the bearer token (if any) and a deadline of `seconds` to context.
+void prepare(grpc::ClientContext& context, const std::string& token = {}, int seconds = 30);
+
+struct UploadResult {
+  grpc::Status status;
+  v1::Mesh mesh;
+};
+
+// Sends exactly these messages, then half-closes and waits for the answer.
+UploadResult uploadMessages(v1::MeshService::Stub& stub,
+                            const std::vector<v1::UploadMeshRequest>& messages,
+                            const std::string& token = {});
+v1::UploadMeshRequest headerMessage(const std::string& id, v1::MeshFormat format, int64_t totalBytes,
+                                    const std::string& displayName = {});
+// The messages of an ARRAYS upload with positions split every floatsPerChunk floats (so chunks
+// may end inside a vertex) and the other arrays in a following message.
+std::vector<v1::UploadMeshRequest> arraysUpload(const std::string& id, const MeshArrays& mesh,
+                                                size_t floatsPerChunk = 3000);
+std::vector<v1::UploadMeshRequest> objUpload(const std::string& id, const std::string& text,
+                                             size_t bytesPerChunk = 64 * 1024,
+                                             const std::string& displayName = {});
+
+// Downloads meshes/<id> and reassembles its arrays; the status of the call in *status.
+MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc::Status* status,
+                        v1::Mesh* metadata = nullptr);
+
+// GET http://address/path; the whole response (head and body), or "" on failure.
+std::string httpGet(const std::string& address, const std::string& path);
+
+}  // namespace tessera::test
