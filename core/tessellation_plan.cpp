@@ -187,13 +187,16 @@ TessellationPlan planTessellation(const PatchSet& patches, const TessellationOpt
   ToleranceModel tolerance(options, patches);
   TessellationPlan plan;
   plan.tolerance = tolerance.forPoints(nullptr, 0);
-  plan.pieces.reserve(patches.regular.size());
-  for (size_t p = 0; p < patches.regular.size(); ++p) {
-    BezierPiece piece = exactPiece(patches.regular.bspline[p], patches.regular.domains[p],
-                                   PieceKind::kRegular, patches.regular.levels[p]);
-    assignLevel(piece, options, tolerance.forPoints(piece.bezier.data(), 16));
-    plan.pieces.push_back(piece);
-  }
+  plan.pieces.resize(patches.regular.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, patches.regular.size(), 256), [&](const auto& range) {
+    if (options.checkpoint) options.checkpoint();
+    for (size_t p = range.begin(); p != range.end(); ++p) {
+      BezierPiece& piece = plan.pieces[p];
+      piece = exactPiece(patches.regular.bspline[p], patches.regular.domains[p], PieceKind::kRegular,
+                         patches.regular.levels[p]);
+      assignLevel(piece, options, tolerance.forPoints(piece.bezier.data(), 16));
+    }
+  });
   std::vector<RingPlan> ringPlans(patches.rings.size());
   tbb::parallel_for(size_t(0), patches.rings.size(), [&](size_t r) {
     if (options.checkpoint && r % 64 == 0) options.checkpoint();
