@@ -82,84 +82,71 @@ TESSERA_HD void regularVertex(Real* out, const Real* v, const Real* const n[4],
 
 }  // namespace fas_detail
 
-// Pass 1: the four face points of sector i.
+// Pass 1: the four face points of sector i (centroids; vertex_f, locate_f).
 template <int W, typename Real = float>
 TESSERA_HD void refineSectorFaces(const RingRules& rules, int i, const Real* in, Real* out) {
-  using namespace cer;
   const auto& shape = rules.shape;
-  auto P = [&](int index) { return in + index * W; };
-  int next = rules.nextSector(i);
-  const Real* ev = P(0);
-  const Real* e = P(ringIndex(i, kE));
-  const Real* a = P(ringIndex(i, kA));
-  const Real* d = P(ringIndex(i, kD));
-  const Real* r21 = P(ringIndex(i, kD21));
-  const Real* r22 = P(ringIndex(i, kD22));
-  const Real* r12 = P(ringIndex(i, kD12));
-  const Real* eNext = P(ringIndex(next, kE));
-  const Real* aNext = P(ringIndex(next, kA));
-  fas_detail::average4<W, Real>(out + ringIndex(i, kD) * W, ev, e, d, eNext);
-  fas_detail::average4<W, Real>(out + extraIndex(shape, i, kX31) * W, e, a, r21, d);
-  fas_detail::average4<W, Real>(out + extraIndex(shape, i, kX33) * W, d, r21, r22, r12);
-  fas_detail::average4<W, Real>(out + extraIndex(shape, i, kX13) * W, eNext, d, r12, aNext);
+  for (int f = 4 * i; f < 4 * i + 4; ++f) {
+    cer::PackedIndices v = cer::vertexF(shape, f);
+    fas_detail::average4<W, Real>(out + cer::locateF(shape, f) * W, in + v[0] * W, in + v[1] * W,
+                                  in + v[2] * W, in + v[3] * W);
+  }
 }
+
+namespace fas_detail {
+
+// Edge point of interior edge e: the midpoint when sharp, else (v0 + v1 + f0 + f1) / 4 with the
+// new face points of its two faces (vertex_e, face_e, locate_e).
+template <int W, typename Real>
+TESSERA_HD void edgePoint(const RingRules& rules, int e, bool sharp, const Real* in, Real* out) {
+  const auto& shape = rules.shape;
+  cer::PackedIndices v = cer::vertexE(shape, e);
+  Real* result = out + cer::locateE(shape, e) * W;
+  if (sharp) {
+    midpoint<W, Real>(result, in + v[0] * W, in + v[1] * W);
+    return;
+  }
+  cer::PackedIndices f = cer::faceE(shape, e);
+  average4<W, Real>(result, in + v[0] * W, in + v[1] * W, out + cer::locateF(shape, f[0]) * W,
+                    out + cer::locateF(shape, f[1]) * W);
+}
+
+// Vertex point of a regular interior vertex j: the crease rule along its spoke when sharp, else
+// the valence-4 smooth rule over its neighbours and new face points (vertex_v, face_v, locate_v).
+template <int W, typename Real>
+TESSERA_HD void vertexPoint(const RingRules& rules, int j, bool sharp, const Real* in, Real* out) {
+  const auto& shape = rules.shape;
+  cer::PackedIndices n = cer::vertexV(shape, j);
+  Real* result = out + cer::locateV(shape, j) * W;
+  const Real* v = in + cer::ringIndexOfVertex(j) * W;
+  if (sharp) {
+    creaseVertex<W, Real>(result, v, in + n[0] * W, in + n[1] * W);
+    return;
+  }
+  cer::PackedIndices f = cer::faceV(shape, j);
+  const Real* neighbours[4] = {in + n[0] * W, in + n[1] * W, in + n[2] * W, in + n[3] * W};
+  const Real* faces[4] = {out + cer::locateF(shape, f[0]) * W, out + cer::locateF(shape, f[1]) * W,
+                          out + cer::locateF(shape, f[2]) * W, out + cer::locateF(shape, f[3]) * W};
+  regularVertex<W, Real>(result, v, neighbours, faces);
+}
+
+}  // namespace fas_detail
 
 // Pass 2 for spoke j (sector j's x-axis): its two edge points and the vertex point of e_j.
 // Needs the face points of sectors j and j-1 from pass 1.
 template <int W, typename Real = float>
 TESSERA_HD void refineSpoke(const RingRules& rules, int j, const Real* in, Real* out) {
-  using namespace cer;
-  const auto& shape = rules.shape;
-  auto P = [&](int index) { return in + index * W; };
-  auto Q = [&](int index) { return out + index * W; };
-  const Real* ev = P(0);
-  const Real* e = P(ringIndex(j, kE));
-  const Real* a = P(ringIndex(j, kA));
-  Real* innerEdge = Q(ringIndex(j, kE));
-  Real* outerEdge = Q(extraIndex(shape, j, kX30));
-  Real* vertex = Q(ringIndex(j, kA));
-  if (rules.spokeSharp(j)) {
-    fas_detail::midpoint<W, Real>(innerEdge, ev, e);
-    fas_detail::midpoint<W, Real>(outerEdge, e, a);
-    fas_detail::creaseVertex<W, Real>(vertex, e, ev, a);
-    return;
-  }
-  int prev = rules.prevSector(j);
-  const Real* face = Q(ringIndex(j, kD));
-  const Real* facePrev = Q(ringIndex(prev, kD));
-  const Real* outerFace = Q(extraIndex(shape, j, kX31));
-  const Real* outerFacePrev = Q(extraIndex(shape, prev, kX13));
-  fas_detail::average4<W, Real>(innerEdge, ev, e, face, facePrev);
-  fas_detail::average4<W, Real>(outerEdge, e, a, outerFace, outerFacePrev);
-  const Real* neighbours[4] = {ev, a, P(ringIndex(j, kD)), P(ringIndex(prev, kD))};
-  const Real* faces[4] = {face, outerFace, facePrev, outerFacePrev};
-  fas_detail::regularVertex<W, Real>(vertex, e, neighbours, faces);
+  const bool sharp = rules.spokeSharp(j);
+  fas_detail::edgePoint<W, Real>(rules, 6 * j, sharp, in, out);
+  fas_detail::edgePoint<W, Real>(rules, 6 * j + 1, sharp, in, out);
+  fas_detail::vertexPoint<W, Real>(rules, 1 + 2 * j, sharp, in, out);
 }
 
 // Pass 2 for sector i: its four non-spoke edge points and the vertex point of d_i.
 template <int W, typename Real = float>
 TESSERA_HD void refineSectorInterior(const RingRules& rules, int i, const Real* in, Real* out) {
-  using namespace cer;
-  const auto& shape = rules.shape;
-  auto P = [&](int index) { return in + index * W; };
-  auto Q = [&](int index) { return out + index * W; };
-  int next = rules.nextSector(i);
-  const Real* e = P(ringIndex(i, kE));
-  const Real* d = P(ringIndex(i, kD));
-  const Real* r21 = P(ringIndex(i, kD21));
-  const Real* r12 = P(ringIndex(i, kD12));
-  const Real* eNext = P(ringIndex(next, kE));
-  const Real* face = Q(ringIndex(i, kD));
-  const Real* f31 = Q(extraIndex(shape, i, kX31));
-  const Real* f33 = Q(extraIndex(shape, i, kX33));
-  const Real* f13 = Q(extraIndex(shape, i, kX13));
-  fas_detail::average4<W, Real>(Q(ringIndex(i, kD21)), e, d, face, f31);
-  fas_detail::average4<W, Real>(Q(extraIndex(shape, i, kX23)), d, r12, f13, f33);
-  fas_detail::average4<W, Real>(Q(ringIndex(i, kD12)), eNext, d, face, f13);
-  fas_detail::average4<W, Real>(Q(extraIndex(shape, i, kX32)), d, r21, f31, f33);
-  const Real* neighbours[4] = {e, eNext, r21, r12};
-  const Real* faces[4] = {face, f31, f33, f13};
-  fas_detail::regularVertex<W, Real>(Q(ringIndex(i, kD22)), d, neighbours, faces);
+  for (int e = 6 * i + 2; e < 6 * i + 6; ++e) fas_detail::edgePoint<W, Real>(rules, e, false, in, out);
+  fas_detail::vertexPoint<W, Real>(rules, 2 + 2 * i, false, in, out);
 }
 
 // Pass 2 for the EV itself (after all face points exist).
