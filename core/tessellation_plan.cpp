@@ -80,6 +80,7 @@ double curvatureBound(const Vec3* b) {
 }
 
 void assignLevel(BezierPiece& piece, const TessellationOptions& options, double epsilon) {
+  piece.tolerance = float(epsilon + piece.approximationBound);
   if (options.uniformLevel > 0) {
     piece.level = uniformLevel(options.uniformLevel, piece.depth);
     piece.tessellationBound = float(curvatureBound(piece.bezier.data()) / (8.0 * piece.level * piece.level));
@@ -186,7 +187,6 @@ TessellationPlan planTessellation(const PatchSet& patches, const TessellationOpt
   validateTessellationOptions(options);
   ToleranceModel tolerance(options, patches);
   TessellationPlan plan;
-  plan.tolerance = tolerance.forPoints(nullptr, 0);
   plan.pieces.resize(patches.regular.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, patches.regular.size(), 256), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
@@ -211,8 +211,10 @@ TessellationPlan planTessellation(const PatchSet& patches, const TessellationOpt
   }
   plan.rings = static_cast<int>(ringPlans.size());
   plan.averageDepth = plan.rings ? double(depthSum) / plan.rings : 0.0;
+  plan.tolerance = plan.pieces.empty() ? tolerance.forPoints(nullptr, 0) : INFINITY;
   for (const BezierPiece& piece : plan.pieces) {
     plan.guaranteedBound = std::max(plan.guaranteedBound, double(piece.approximationBound) + piece.tessellationBound);
+    plan.tolerance = std::min(plan.tolerance, double(piece.tolerance));
   }
   return plan;
 }

@@ -23,6 +23,7 @@ struct BezierPiece {
   int level = 1;                  // tessellation level N (an N×N grid)
   float approximationBound = 0;   // distance to the limit surface (0: exact piece)
   float tessellationBound = 0;    // FMM86 bound of the N×N triangulation
+  float tolerance = 0;            // ε this piece was planned for (object space)
   int ring = -1;                  // innermost pieces: their ring (its EV is the (0,0) corner)
 };
 
