@@ -17,6 +17,7 @@
 #include "client/remote_tessellate.h"
 #endif
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 
 namespace tessera::cli {
@@ -123,7 +124,11 @@ int runLocalTessellate(const TessellateFlags& flags) {
     double preprocessMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     TessellationResult result = tessellate(patches, mesh, options);
-    std::vector<uint8_t> glb = writeGlb(result.mesh, flags.model);
+    // Named by the file's stem, as a server names it by the mesh id ("bigguy" for bigguy.obj
+    // uploaded as meshes/bigguy): the output does not depend on where the input lay, and a
+    // local and a remote tessellation of the same mesh are the same bytes.
+    std::vector<uint8_t> glb =
+        writeGlb(result.mesh, std::filesystem::path(flags.model).stem().string());
     std::ofstream out(flags.output, std::ios::binary);
     out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
     if (!out) {

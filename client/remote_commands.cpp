@@ -1,5 +1,6 @@
 // Remote commands of the `tessera` CLI: upload, list, get, delete, info and health, each one
-// call (or stream) to a tessera-server chosen with --server. The remote form of `tessellate`
+// call (or stream) to a tessera-server chosen with --server, and the load tester `bench`
+// (client/remote_bench.h). The remote form of `tessellate`
 // shares the local command (client/remote_tessellate.h).
 #include <fmt/format.h>
 
@@ -8,6 +9,8 @@
 #include <memory>
 
 #include "client/commands.h"
+#include "client/remote_bench.h"
+#include "client/remote_render.h"
 #include "client/remote_connection.h"
 #include "client/remote_progress.h"
 #include "client/remote_upload.h"
@@ -210,6 +213,9 @@ void registerRemoteCommands(CLI::App& app, CommandContext& context) {
 
   CLI::App* health = app.add_subcommand("health", "Exit 0 if the server reports SERVING");
   health->callback([&context, endpoint] { context.exitCode = runHealth(*endpoint); });
+
+  registerBenchCommand(app, context, endpoint);
+  registerRenderCommand(app, context);
 }
 
 }  // namespace tessera::cli

@@ -54,6 +54,11 @@ RemoteEndpoint endpointFromApp(const CLI::App& root) {
 }
 
 std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint) {
+  return makeChannel(endpoint, grpc::ChannelArguments());
+}
+
+std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint,
+                                           const grpc::ChannelArguments& arguments) {
   std::shared_ptr<grpc::ChannelCredentials> credentials;
   if (endpoint.tls || !endpoint.caCert.empty()) {
     grpc::SslCredentialsOptions options;
@@ -62,7 +67,7 @@ std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint) {
   } else {
     credentials = grpc::InsecureChannelCredentials();
   }
-  return grpc::CreateChannel(endpoint.server, credentials);
+  return grpc::CreateCustomChannel(endpoint.server, credentials, arguments);
 }
 
 void prepareContext(grpc::ClientContext& context, const RemoteEndpoint& endpoint,

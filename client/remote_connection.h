@@ -31,6 +31,10 @@ void addEndpointOptions(CLI::App& app, RemoteEndpoint& endpoint);
 RemoteEndpoint endpointFromApp(const CLI::App& root);
 
 std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint);
+// The same with channel arguments (e.g. a local subchannel pool, so that the channel gets a
+// connection of its own instead of sharing one with every other channel to the same address).
+std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint,
+                                           const grpc::ChannelArguments& arguments);
 
 // Adds the bearer token and, if given, a deadline to context.
 void prepareContext(grpc::ClientContext& context, const RemoteEndpoint& endpoint,

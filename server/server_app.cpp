@@ -14,6 +14,8 @@
 
 #include "server/mesh_service.h"
 #include "server/metrics_http_server.h"
+#include "server/render_backend.h"
+#include "server/render_service.h"
 #include "server/request_observer.h"
 #include "server/server_info_service.h"
 #include "server/tessellation_service.h"
@@ -54,14 +56,20 @@ std::unique_ptr<TessellationEngine> makeEngine(const ServerConfig& config) {
 }
 
 v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngine& engine,
-                              const std::string& storeKind) {
+                              const RenderBackend& renderer, const std::string& storeKind) {
   v1::ServerInfo info;
   info.set_version(TESSERA_VERSION);
   v1::Backend* backend = info.add_backends();
   backend->set_name(engine.name());
   backend->set_available(engine.available());
   backend->set_detail(engine.detail());
-  info.set_device(fmt::format("CPU: {} hardware threads", std::thread::hardware_concurrency()));
+  v1::Backend* render = info.add_backends();
+  render->set_name(renderer.name());
+  render->set_available(renderer.available());
+  render->set_detail(renderer.detail());
+  std::string device = fmt::format("CPU: {} hardware threads", std::thread::hardware_concurrency());
+  if (!renderer.device().empty()) device += "; render device: " + renderer.device();
+  info.set_device(device);
   v1::ServerLimits* limits = info.mutable_limits();
   limits->set_max_upload_bytes(config.upload.maxUploadBytes);
   limits->set_max_vertices(config.upload.mesh.maxVertices);
@@ -183,19 +191,27 @@ int runServer(const ServerConfig& config) {
   MeshRepository repository(*store, static_cast<size_t>(config.cacheBytes));
   AdmissionControl admission(config.maxConcurrentJobs, config.maxQueuedJobs);
   std::unique_ptr<TessellationEngine> engine = makeEngine(config);
+  // Probed now so that GetServerInfo can name the device; the renderer itself is created by the
+  // first frame.
+  std::unique_ptr<RenderBackend> renderer =
+      makeRenderBackend(static_cast<size_t>(config.cacheBytes), /*probeDevice=*/true);
   BearerAuth auth(config.token);
   registerSampledMetrics(registry, repository, admission);
 
   MeshServiceImpl meshService(repository, admission, auth, config.upload, metrics);
   TessellationServiceImpl tessellationService(repository, admission, *engine, auth,
                                               config.tessellation, metrics);
-  ServerInfoServiceImpl infoService(describeServer(config, *engine, store->kind()), auth);
+  RenderServiceImpl renderService(repository, admission, *renderer, auth, config.tessellation,
+                                  registry);
+  ServerInfoServiceImpl infoService(describeServer(config, *engine, *renderer, store->kind()),
+                                    auth);
 
   // Reflection cannot be put behind the bearer token, so a server with a token does not offer it.
   bool reflection = config.reflection && config.token.empty();
   int port = 0;
   std::unique_ptr<grpc::Server> server = startGrpcServer(
-      config, {&meshService, &tessellationService, &infoService}, reflection, metrics, &port);
+      config, {&meshService, &tessellationService, &renderService, &infoService}, reflection,
+      metrics, &port);
   if (!server) {
     spdlog::critical("cannot listen on {}", config.listen);
     return 1;

@@ -38,6 +38,8 @@ class ServerProcess {
   // SIGTERM, then reap; returns the exit status (or -1 if it died of a signal).
   int terminate();
   bool running() const { return pid_ > 0; }
+  // The server's process id (for /proc/PID/status), or -1 once it has stopped.
+  pid_t pid() const { return pid_; }
 
  private:
   ServerProcess() = default;

@@ -1,0 +1,41 @@
+#include "server/render_backend.h"
+
+#if TESSERA_WITH_RENDER
+#include "server/render_vulkan_backend.h"
+#endif
+
+namespace tessera::server {
+namespace {
+
+#if !TESSERA_WITH_RENDER
+// Builds without gpu/vulkan (TESSERA_BUILD_VULKAN=OFF) or without OpenImageIO.
+class UnavailableRenderBackend final : public RenderBackend {
+ public:
+  std::string name() const override { return "vulkan"; }
+  bool available() const override { return false; }
+  std::string detail() const override { return kWhy; }
+  std::string device() const override { return {}; }
+  RenderedFrame render(const ControlMesh&, const FrameJob&, const CancellationToken&) override {
+    throw RenderUnavailable(kWhy);
+  }
+
+ private:
+  static constexpr const char* kWhy =
+      "this server was built without the Vulkan renderer (TESSERA_BUILD_VULKAN=OFF, or Vulkan "
+      "or OpenImageIO not found), so it cannot render frames";
+};
+#endif
+
+}  // namespace
+
+std::unique_ptr<RenderBackend> makeRenderBackend(size_t patchCacheBytes, bool probeDevice) {
+#if TESSERA_WITH_RENDER
+  return std::make_unique<VulkanRenderBackend>(
+      patchCacheBytes, gpu::DeviceSelection::fromEnvironment(), probeDevice);
+#else
+  (void)patchCacheBytes, (void)probeDevice;
+  return std::make_unique<UnavailableRenderBackend>();
+#endif
+}
+
+}  // namespace tessera::server

@@ -1,0 +1,222 @@
+#include "server/render_vulkan_backend.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <utility>
+
+#include "gpu/vulkan/vulkan_error.h"
+#include "server/render_device_probe.h"
+
+namespace tessera::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// How often a frame waiting for the device checks whether its call was cancelled.
+constexpr auto kCancelPoll = std::chrono::milliseconds(20);
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+template <typename T>
+size_t bytesOf(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// What a patch set holds, to charge it against the cache's budget.
+size_t bytesOf(const PatchSet& set) {
+  const RegularPatches& g = set.regular;
+  const RingSet& r = set.rings;
+  return sizeof(PatchSet) + bytesOf(g.bspline) + bytesOf(g.domains) + bytesOf(g.levels) +
+         bytesOf(r.shapes) + bytesOf(r.cornerEv) + bytesOf(r.levels) + bytesOf(r.pointOffsets) +
+         bytesOf(r.points) + bytesOf(r.centers) + bytesOf(r.spokeOffsets) + bytesOf(r.sharpSpokes) +
+         bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned);
+}
+
+std::string describeDevice(const gpu::DeviceInfo& info) {
+  return fmt::format("{} ({}), {}, {}", info.name, info.driver, gpu::deviceKindName(info.kind),
+                     info.meshShaders ? "mesh-shader path (VK_EXT_mesh_shader)"
+                                      : "compute path (no VK_EXT_mesh_shader)");
+}
+
+// FrameEngine's request for a job: default background, light, material and geometry path.
+gpu::FrameRequest frameRequestFor(const FrameJob& job) {
+  gpu::FrameRequest request;
+  const CameraSpec& c = job.camera;
+  request.camera = tessera::Camera{c.eye, c.target, c.up, c.fovYDeg, c.width, c.height};
+  const FrameSettings& s = job.settings;
+  switch (s.accuracy) {
+    case FrameAccuracy::kPixel:
+      request.mode = gpu::AccuracyMode::kPixelAccurate;
+      request.pixelAccuracy = s.pixelAccuracy;
+      break;
+    case FrameAccuracy::kAbsolute:
+      request.mode = gpu::AccuracyMode::kAbsoluteTolerance;
+      request.tolerance = s.tolerance;
+      break;
+    case FrameAccuracy::kUniform:
+      request.mode = gpu::AccuracyMode::kUniformLevel;
+      request.uniformLevel = s.uniformLevel;
+      break;
+  }
+  request.eta = s.eta;
+  if (s.maxTriangles > 0) request.maxTriangles = s.maxTriangles;
+  request.render.crackFilling = s.crackFilling;
+  return request;
+}
+
+}  // namespace
+
+VulkanRenderBackend::VulkanRenderBackend(size_t patchCacheBytes, gpu::DeviceSelection selection,
+                                         bool probeDevice)
+    : selection_(std::move(selection)), patches_(patchCacheBytes) {
+  detail_ =
+      "Vulkan renderer (paper §5-6: CPU planning, GPU tessellation and crack filling); "
+      "device chosen at the first frame";
+  if (!probeDevice) return;
+  // The renderer (device, pipelines, buffers) waits for the first frame, so a server that never
+  // renders pays little for it.
+  Clock::time_point start = Clock::now();
+  try {
+    ProbedDevice probed = probeRenderDevice(selection_);
+    std::string what =
+        fmt::format("{} ({}), {}{}", probed.name, probed.driver, gpu::deviceKindName(probed.kind),
+                    probed.meshShaderExtension ? ", VK_EXT_mesh_shader" : "");
+    {
+      std::lock_guard lock(info_);
+      deviceName_ = probed.name;
+      detail_ = fmt::format("Vulkan renderer on {}; created at the first frame", what);
+    }
+    spdlog::info("render device: {} (probed in {:.0f} ms)", what, millisecondsSince(start));
+  } catch (const std::exception& error) {
+    std::lock_guard lock(info_);
+    failed_ = true;
+    detail_ = fmt::format("no usable Vulkan device: {}", error.what());
+    spdlog::warn("rendering unavailable: {}", detail_);
+  }
+}
+
+VulkanRenderBackend::~VulkanRenderBackend() = default;
+
+bool VulkanRenderBackend::available() const {
+  std::lock_guard lock(info_);
+  return !failed_;
+}
+
+std::string VulkanRenderBackend::detail() const {
+  std::lock_guard lock(info_);
+  return detail_;
+}
+
+std::string VulkanRenderBackend::device() const {
+  std::lock_guard lock(info_);
+  return deviceName_;
+}
+
+void VulkanRenderBackend::describe(const gpu::DeviceInfo& info, const char* when) {
+  std::lock_guard lock(info_);
+  if (!deviceName_.empty() && deviceName_ != info.name) {
+    spdlog::warn(
+        "the renderer runs on {}, not on {} as probed at start (GetServerInfo names the "
+        "probed one)",
+        info.name, deviceName_);
+  }
+  deviceName_ = info.name;
+  detail_ = fmt::format("Vulkan renderer on {}; {}", describeDevice(info), when);
+}
+
+// Keyed by id and content hash: a mesh re-uploaded under the same id never hits a stale entry.
+std::shared_ptr<const PatchSet> VulkanRenderBackend::patchesFor(const ControlMesh& mesh,
+                                                                const FrameJob& job) {
+  const std::string key = job.meshId + "@" + job.meshSha256;
+  if (auto cached = patches_.find(key)) return cached;
+  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh));
+  patches_.insert(key, built, bytesOf(*built));
+  return built;
+}
+
+gpu::FrameEngine& VulkanRenderBackend::engineLocked() {
+  if (engine_) return *engine_;
+  if (!unavailable_.empty()) throw RenderUnavailable(unavailable_);
+  Clock::time_point start = Clock::now();
+  try {
+    engine_.emplace(gpu::FrameEngine::create(selection_));
+  } catch (const std::exception& error) {
+    unavailable_ = fmt::format("no usable Vulkan device: {}", error.what());
+    {
+      std::lock_guard lock(info_);
+      failed_ = true;
+      detail_ = unavailable_;
+    }
+    spdlog::error("rendering unavailable: {}", unavailable_);
+    throw RenderUnavailable(unavailable_);
+  }
+  gpu::DeviceInfo info = engine_->renderer().info();
+  describe(info, "created");
+  spdlog::info("render device created in {:.0f} ms: {}", millisecondsSince(start),
+               describeDevice(info));
+  return *engine_;
+}
+
+gpu::Frame VulkanRenderBackend::drawLocked(const gpu::PreparedFrame& prepared) {
+  gpu::FrameEngine& engine = engineLocked();
+  try {
+    return engine.renderer().render(prepared.patches, prepared.camera, prepared.options);
+  } catch (const gpu::VulkanError& error) {
+    if (error.result() == VK_ERROR_DEVICE_LOST) {
+      spdlog::error("render device lost ({}); the next frame creates a new one", error.what());
+      engine_.reset();
+    }
+    throw;
+  } catch (const gpu::RenderInputError& error) {
+    // The camera was checked before: what is left is more than the device can take.
+    throw RenderLimitExceeded(error.what());
+  } catch (const gpu::RenderUnsupportedError& error) {
+    throw RenderUnavailable(error.what());
+  }
+}
+
+RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJob& job,
+                                          const CancellationToken& cancel) {
+  RenderedFrame out;
+  Clock::time_point planStart = Clock::now();
+  std::shared_ptr<const PatchSet> patches = patchesFor(mesh, job);
+  cancel.throwIfCancelled();
+  gpu::PreparedFrame prepared = gpu::prepareFrame(*patches, frameRequestFor(job));
+  out.times.planMs = millisecondsSince(planStart);
+  cancel.throwIfCancelled();
+
+  Clock::time_point waitStart = Clock::now();
+  std::unique_lock lock(device_, std::defer_lock);
+  while (!lock.try_lock_for(kCancelPoll)) cancel.throwIfCancelled();
+  cancel.throwIfCancelled();
+  out.device = engineLocked().renderer().info().name;  // the first frame creates the device
+  out.times.waitMs = millisecondsSince(waitStart);
+  Clock::time_point renderStart = Clock::now();
+  gpu::Frame frame = drawLocked(prepared);
+  lock.unlock();
+  out.times.renderMs = millisecondsSince(renderStart);
+
+  out.times.tessellationMs = frame.timings.tessellationMs;
+  out.times.rasterShadingMs = frame.timings.rasterShadingMs;
+  out.times.crackFillingMs = frame.timings.crackFillingMs;
+  out.times.gpuTimestamps = frame.timings.fromTimestamps;
+  const gpu::FrameStatistics& s = prepared.statistics;
+  out.counts.triangles = int64_t(frame.trianglesGenerated);
+  out.counts.pieces = s.pieces;
+  out.counts.visiblePieces = s.visiblePieces;
+  out.counts.renderPatches = s.renderPatches;
+  out.counts.rings = s.rings;
+  out.counts.averageRingDepth = s.averageRingDepth;
+  out.counts.maxRingDepth = s.maxRingDepth;
+  out.counts.guaranteedBound = s.guaranteedBound;
+  out.width = frame.width;
+  out.height = frame.height;
+  out.rgba = std::move(frame.rgba);
+  out.depth = std::move(frame.depth);
+  return out;
+}
+
+}  // namespace tessera::server
