@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: start tessera-server on the embedded store (SQLite in a scratch folder, loopback,
 # a free port), then a round trip with the CLI: upload the bundled sample, fetch a GLB within
-# 1e-3 of the bounding-box diagonal of its exact limit surface. Outputs land in ./demo-output/.
+# 1e-3 of the bounding-box diagonal of its exact limit surface and a pixel-accurate PNG frame.
+# Outputs land in ./demo-output/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ -x build/server/tessera-server ] && [ -x build/client/tessera ] || tools/build.sh
@@ -29,4 +30,7 @@ cli info
 cli upload samples/rounded-box.obj --name rounded-box
 cli list
 cli tessellate meshes/rounded-box --tolerance 1e-3 --relative -o "$out/rounded-box.glb"
-echo "demo: wrote $out/rounded-box.glb"
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/tessera-xdg}"
+mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
+cli render meshes/rounded-box --eye 3,2.5,4 --target 0,0,0 --size 640x480 -o "$out/rounded-box.png"
+echo "demo: wrote $out/rounded-box.glb and $out/rounded-box.png"
