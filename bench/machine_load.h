@@ -1,0 +1,19 @@
+// How much of the machine other processes used while a benchmark ran. The benchmark host is
+// shared (builds, fuzzers, other benchmarks), and a two-thread OpenMP loop slows down sharply
+// when another process holds one of the two cores, so every timed result carries this figure.
+#pragma once
+
+namespace tessera::bench {
+
+struct CpuSample {
+  long long machineBusy = 0, machineTotal = 0;  // all cores, clock ticks (/proc/stat)
+  long long self = 0;                           // this process, all threads (/proc/self/stat)
+};
+
+CpuSample sampleCpu();
+
+// Share of the machine's total CPU time between two samples taken by processes other than this
+// one (0: nobody else ran; 0.5: another process held one of two cores throughout).
+double othersShare(const CpuSample& before, const CpuSample& after);
+
+}  // namespace tessera::bench

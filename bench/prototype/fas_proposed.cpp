@@ -1,0 +1,3 @@
+#include "bench/prototype/fas_proposed.h"
+
+#include "bench/prototype/fas_proposed_kernel.h"  // defines tessera::proposed::refineRingBlocks

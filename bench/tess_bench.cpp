@@ -1,0 +1,301 @@
+// The paper's Table 2 (§6.1) on this machine's CPU: uniform tessellation level p ∈ {16, 32, 64}
+// on the paper's five models, everything prior to rasterization, by Tessera and by OpenSubdiv,
+// next to the memory write floor (write_floor.h). Also registers, from tess_figures.cpp, Fig. 6
+// (depth estimation), Fig. 5 (η sweep) and the tightness measurement.
+//
+//   BM_TessUniform_Tessera/<model>/<p>       planTessellation (uniform p: rings refined by FAS to
+//       ⌈log₂ p⌉ − their Far level, Bézier conversion, levels max(p/2^d, 1)) + evaluatePieceGrids
+//       into a buffer allocated and touched in setup.
+//   BM_TessUniform_Proposed/<model>/<p>      the same samples, bit for bit, by the changes to
+//       core proposed in tess_proposed.h (planner storage kept between frames, AVX2 grids)
+//   BM_TessUniform_OsdBfr/<model>/<p>        Bfr, surfaces and (u,v) prepared in setup (tess_osd.h)
+//   BM_TessUniform_OsdBfrPerFace/<model>/<p> Bfr doing all its per-face work in the timed region
+//   BM_TessUniform_OsdEval/<model>/<p>       Far::PatchTable (Gregory end caps) + OmpEvaluator
+//
+// Run `tessera-bench --benchmark_filter='BM_Tess|BM_Depth|BM_Tightness'`; bench/TESS-RESULTS.md
+// has the numbers and the exact commands.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <string>
+
+#include "bench/tess_common.h"
+#include "bench/tess_figures.h"
+#include "bench/tess_osd.h"
+#include "bench/tess_proposed.h"
+#include "bench/write_floor.h"
+#include "core/grid_evaluation.h"
+#include "core/tessellation_plan.h"
+
+namespace tessera::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kUniformLevels[] = {16, 32, 64};
+constexpr int kBfrCheckFaceStride = 7;  // OsdEval is compared with Bfr on every 7th face
+
+// A hash of the output's bits (not cryptographic: it only has to notice a changed sample).
+uint64_t bitsHash(const Vec3* samples, size_t count) {
+  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(samples);
+  const size_t size = count * sizeof(Vec3);
+  uint64_t hash = 1469598103934665603ull;
+  size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    uint64_t word;
+    std::memcpy(&word, bytes + i, 8);
+    hash = (hash ^ word) * 1099511628211ull;
+  }
+  for (; i < size; ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  return hash;
+}
+
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Everything one (model, p) case needs, built lazily by whichever method asks first and kept
+// while the four methods of that case run.
+struct UniformCase : TessCase {
+  const LoadedModel* model = nullptr;
+  int level = 0;
+  // Tessera
+  size_t tessSamples = 0, pieces = 0;
+  std::unique_ptr<OutputBuffer<Vec3>> tessOut;
+  double tessError = -1;  // max distance of checked samples to the limit surface / diagonal
+  double tessInnermostError = -1;  // the same over innermost (approximated) pieces only
+  uint64_t tessHash = 0;  // of core's output, which the proposed changes must reproduce
+  std::unique_ptr<proposed::UniformPlanner> planner;
+  std::string proposedError;
+  // OpenSubdiv
+  std::unique_ptr<OsdUniformSamples> osd;
+  std::unique_ptr<OutputBuffer<float>> osdOut;
+  bool bfrPrepared = false, evalPrepared = false;
+  double stencilMs = 0, evalVsBfr = -1, bfrError = -1;
+  std::string error;
+};
+
+UniformCase& uniformCase(const std::string& name, int p) {
+  return currentCase<UniformCase>(name + "/" + std::to_string(p), [&] {
+    auto c = std::make_unique<UniformCase>();
+    c->model = &loadedModel(name);
+    c->level = p;
+    return c;
+  });
+}
+
+TessellationOptions uniformOptions(int p) {
+  TessellationOptions options;
+  options.uniformLevel = p;
+  return options;
+}
+
+void prepareTessera(UniformCase& c) {
+  if (c.tessOut) return;
+  TessellationPlan plan = planTessellation(c.model->patches, uniformOptions(c.level));
+  std::vector<size_t> offsets = gridOffsets(plan.pieces);
+  c.tessSamples = offsets.back();
+  c.pieces = plan.pieces.size();
+  c.tessOut = std::make_unique<OutputBuffer<Vec3>>(c.tessSamples);
+  evaluatePieceGrids(plan.pieces, offsets, c.tessOut->data());
+  c.tessError = sampledLimitDeviation(*c.model, plan, offsets, c.tessOut->data(), c.tessInnermostError);
+  c.tessHash = bitsHash(c.tessOut->data(), c.tessSamples);
+}
+
+void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
+  bestWriteBandwidth();  // calibrate before any large buffer exists
+  UniformCase* c = nullptr;
+  try {
+    c = &uniformCase(name, p);
+    prepareTessera(*c);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  const TessellationOptions options = uniformOptions(p);
+  double planMs = 0, evalMs = 0;
+  bool sizesMatch = true;
+  double seconds = timeWallIterations(state, [&] {
+    auto start = Clock::now();
+    TessellationPlan plan = planTessellation(c->model->patches, options);
+    std::vector<size_t> offsets = gridOffsets(plan.pieces);
+    auto planned = Clock::now();
+    sizesMatch = sizesMatch && offsets.back() == c->tessSamples;
+    if (sizesMatch) evaluatePieceGrids(plan.pieces, offsets, c->tessOut->data());
+    planMs += std::chrono::duration<double, std::milli>(planned - start).count();
+    evalMs += millisecondsSince(planned);
+  });
+  benchmark::DoNotOptimize(c->tessOut->data());
+  if (!sizesMatch) {
+    state.SkipWithError("the plan's sample count changed between setup and timing");
+    return;
+  }
+  reportSampleCounters(state, c->tessSamples, seconds);
+  const double iterations = double(state.iterations());
+  state.counters["plan_ms"] = planMs / iterations;
+  state.counters["eval_ms"] = evalMs / iterations;
+  state.counters["pieces"] = double(c->pieces);
+  state.counters["rings"] = double(c->model->patches.rings.size());
+  state.counters["max_err_rel"] = c->tessError;
+  state.counters["innermost_err_rel"] = c->tessInnermostError;
+}
+
+// Skipped unless bit-identical to the library (core's output is written over; Tessera's case
+// has already run when the cases are run in their registered order, else it is recomputed).
+void BM_TessUniform_Proposed(benchmark::State& state, std::string name, int p) {
+  bestWriteBandwidth();
+  UniformCase* c = nullptr;
+  try {
+    c = &uniformCase(name, p);
+    prepareTessera(*c);
+    if (!c->planner) {
+      c->planner = std::make_unique<proposed::UniformPlanner>();
+      c->planner->plan(c->model->patches, p);
+      if (c->planner->samples() != c->tessSamples) {
+        c->proposedError = "the proposed planner's sample count differs from the library's";
+      } else {
+        c->planner->evaluate(c->tessOut->data());
+        if (bitsHash(c->tessOut->data(), c->tessSamples) != c->tessHash) {
+          c->proposedError = "the proposed planner's samples are not bit-identical to the library's";
+        }
+      }
+    }
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  if (!c->proposedError.empty()) {
+    state.SkipWithError(c->proposedError.c_str());
+    return;
+  }
+  double planMs = 0, evalMs = 0;
+  double seconds = timeWallIterations(state, [&] {
+    auto start = Clock::now();
+    c->planner->plan(c->model->patches, p);
+    auto planned = Clock::now();
+    c->planner->evaluate(c->tessOut->data());
+    planMs += std::chrono::duration<double, std::milli>(planned - start).count();
+    evalMs += millisecondsSince(planned);
+  });
+  benchmark::DoNotOptimize(c->tessOut->data());
+  reportSampleCounters(state, c->planner->samples(), seconds);
+  const double iterations = double(state.iterations());
+  state.counters["plan_ms"] = planMs / iterations;
+  state.counters["eval_ms"] = evalMs / iterations;
+  state.counters["pieces"] = double(c->planner->pieces());
+}
+
+// The OSD methods share the sample set and the output buffer of their case.
+UniformCase* osdCase(benchmark::State& state, const std::string& name, int p) {
+  bestWriteBandwidth();
+  try {
+    UniformCase& c = uniformCase(name, p);
+    if (!c.osd) {
+      c.osd = std::make_unique<OsdUniformSamples>(c.model->mesh, p);
+      c.osdOut = std::make_unique<OutputBuffer<float>>(3 * c.osd->samples());
+    }
+    return &c;
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return nullptr;
+  }
+}
+
+void reportOsd(benchmark::State& state, const UniformCase& c, double seconds) {
+  reportSampleCounters(state, c.osd->samples(), seconds);
+  state.counters["faces"] = c.osd->faces();
+}
+
+void BM_TessUniform_OsdBfr(benchmark::State& state, std::string name, int p) {
+  UniformCase* c = osdCase(state, name, p);
+  if (c == nullptr) return;
+  if (!c->bfrPrepared) {
+    c->osd->prepareBfr();
+    c->bfrPrepared = true;
+  }
+  double seconds = timeWallIterations(state, [&] { c->osd->evaluateBfrPrepared(c->osdOut->data()); });
+  benchmark::DoNotOptimize(c->osdOut->data());
+  if (c->bfrError < 0) c->bfrError = osdLimitDeviation(*c->model, *c->osd, c->osdOut->data(), kBfrCheckFaceStride);
+  reportOsd(state, *c, seconds);
+  state.counters["max_err_rel"] = c->bfrError;  // Bfr's default approximation levels
+}
+
+void BM_TessUniform_OsdBfrPerFace(benchmark::State& state, std::string name, int p) {
+  UniformCase* c = osdCase(state, name, p);
+  if (c == nullptr) return;
+  double seconds = timeWallIterations(state, [&] { c->osd->evaluateBfrPerFace(c->osdOut->data()); });
+  benchmark::DoNotOptimize(c->osdOut->data());
+  reportOsd(state, *c, seconds);
+}
+
+void BM_TessUniform_OsdEval(benchmark::State& state, std::string name, int p) {
+  UniformCase* c = osdCase(state, name, p);
+  if (c == nullptr) return;
+  if (!c->evalPrepared) {
+    try {
+      c->osd->prepareOsdEval(c->stencilMs);
+    } catch (const std::exception& e) {
+      c->error = e.what();
+    }
+    c->evalPrepared = true;
+  }
+  if (!c->error.empty()) {
+    state.SkipWithError(c->error.c_str());
+    return;
+  }
+  double seconds = timeWallIterations(state, [&] { c->osd->evaluateOsdEval(c->osdOut->data()); });
+  benchmark::DoNotOptimize(c->osdOut->data());
+  if (c->evalVsBfr < 0) {
+    if (!c->bfrPrepared) {
+      c->osd->prepareBfr();
+      c->bfrPrepared = true;
+    }
+    c->evalVsBfr = c->osd->maxDeviationFromBfr(c->osdOut->data(), kBfrCheckFaceStride) / c->model->diagonal;
+  }
+  reportOsd(state, *c, seconds);
+  state.counters["patches"] = double(c->osd->patchCount());
+  state.counters["stencil_ms_1thread"] = c->stencilMs;
+  state.counters["vs_bfr_rel"] = c->evalVsBfr;
+}
+
+void registerUniform() {
+  using Method = void (*)(benchmark::State&, std::string, int);
+  const std::pair<const char*, Method> methods[] = {
+      {"BM_TessUniform_Tessera", BM_TessUniform_Tessera},
+      {"BM_TessUniform_Proposed", BM_TessUniform_Proposed},
+      {"BM_TessUniform_OsdBfr", BM_TessUniform_OsdBfr},
+      {"BM_TessUniform_OsdBfrPerFace", BM_TessUniform_OsdBfrPerFace},
+      {"BM_TessUniform_OsdEval", BM_TessUniform_OsdEval},
+  };
+  // Case after case, so that the four methods of a case share its setup and buffers.
+  for (const std::string& model : paperModels()) {
+    for (int p : kUniformLevels) {
+      for (const auto& [prefix, method] : methods) {
+        std::string name = std::string(prefix) + "/" + model + "/" + std::to_string(p);
+        benchmark::RegisterBenchmark(name.c_str(), method, model, p)
+            ->UseManualTime()
+            ->ComputeStatistics("min", fastestOf)
+            ->Unit(benchmark::kMillisecond);
+      }
+    }
+  }
+}
+
+const bool registered = [] {
+  registerUniform();
+  registerDepthEstimates();
+  registerEtaSweep();
+  registerTightness();
+  benchmark::AddCustomContext("tess_threads", std::to_string(kTessThreads));
+  benchmark::AddCustomContext("tess_models_dir", tessModelsDir());
+  return true;
+}();
+
+}  // namespace
+}  // namespace tessera::bench

@@ -1,0 +1,81 @@
+#include "bench/tess_common.h"
+
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <new>
+
+#include "bench/write_floor.h"
+#include "core/obj_reader.h"
+
+namespace tessera::bench {
+
+namespace {
+constexpr size_t kHugePage = size_t(2) << 20;
+}
+
+std::string tessModelsDir() {
+  if (const char* dir = std::getenv("TESSERA_MODELS_DIR")) return dir;
+  // __FILE__ is <checkout>/bench/tess_common.cpp; the models sit in ../shared/models beside it.
+  std::filesystem::path checkout = std::filesystem::path(__FILE__).parent_path().parent_path();
+  return (checkout.parent_path() / "shared" / "models").string();
+}
+
+const LoadedModel& loadedModel(const std::string& name) {
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<LoadedModel>> models;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = models[name];
+  if (!slot) {
+    auto model = std::make_unique<LoadedModel>();
+    model->name = name;
+    model->mesh = readObjFile(tessModelsDir() + "/" + name + ".obj");
+    model->patches = buildPatchSet(model->mesh);
+    Vec3d lo(model->patches.boundsMin), hi(model->patches.boundsMax);
+    Vec3d side = hi - lo;
+    model->diagonal = length(side);
+    model->minBoxSide = std::min({side.x, side.y, side.z});
+    slot = std::move(model);
+  }
+  return *slot;
+}
+
+void* allocateTouched(size_t bytes) {
+  // Huge-page alignment lets madvise back the range with 2 MiB pages: fewer TLB misses for
+  // every method alike, so the comparison measures the methods, not page walks.
+  size_t rounded = std::max(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
+  void* data = std::aligned_alloc(kHugePage, rounded);
+  if (data == nullptr) throw std::bad_alloc();
+  madvise(data, rounded, MADV_HUGEPAGE);  // advisory: a refusal only costs speed
+  std::memset(data, 0, rounded);
+  return data;
+}
+
+void freeTouched(void* data) { std::free(data); }
+
+void reportSampleCounters(benchmark::State& state, size_t samples, double seconds) {
+  const double bytes = double(samples) * 3 * sizeof(float);
+  const double perIteration = seconds / double(std::max<benchmark::IterationCount>(1, state.iterations()));
+  const double floorSeconds = bytes / bestWriteBandwidth();
+  state.counters["samples"] = double(samples);
+  state.counters["bytes_written"] = bytes;
+  state.counters["GB/s"] = bytes / perIteration / 1e9;
+  state.counters["floor_ms"] = floorSeconds * 1e3;
+  state.counters["x_floor"] = perIteration / floorSeconds;
+}
+
+TessCaseSlot& tessCaseSlot() {
+  static TessCaseSlot slot;
+  return slot;
+}
+
+double fastestOf(const std::vector<double>& values) {
+  return *std::min_element(values.begin(), values.end());
+}
+
+}  // namespace tessera::bench

@@ -1,0 +1,123 @@
+// What the tessellation benchmarks (tess_bench.cpp: the paper's Table 2, Fig. 5, Fig. 6 and a
+// tightness measurement) share: the paper's five models loaded once per process, a touched
+// output buffer, wall-clock timing of multi-threaded work with the machine's load beside it,
+// and the write-floor counters (write_floor.h).
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "bench/machine_load.h"
+#include "core/control_mesh.h"
+#include "core/patch_set.h"
+
+namespace tessera::bench {
+
+inline constexpr int kTessThreads = 2;  // this machine's cores (TBB and OpenMP use both)
+
+// The paper's models (§6 "Models setting"), by file base name under the models folder.
+inline const std::vector<std::string>& paperModels() {
+  static const std::vector<std::string> names = {"bigguy", "monsterfrog", "armorguy", "t-rex", "car"};
+  return names;
+}
+
+// TESSERA_MODELS_DIR if set, else ../shared/models beside the checkout this file was built from.
+std::string tessModelsDir();
+
+struct LoadedModel {
+  std::string name;
+  ControlMesh mesh;
+  PatchSet patches;  // buildPatchSet: preprocessing, never timed
+  double diagonal = 0, minBoxSide = 0;
+};
+
+// Reads and preprocesses a model the first time it is asked for; kept for the whole run.
+const LoadedModel& loadedModel(const std::string& name);
+
+// A 64-byte aligned array on huge pages where granted, written once when made so that no page
+// fault lands in a timed region.
+template <class T>
+class OutputBuffer {
+ public:
+  explicit OutputBuffer(size_t count);
+  ~OutputBuffer();
+  OutputBuffer(const OutputBuffer&) = delete;
+  OutputBuffer& operator=(const OutputBuffer&) = delete;
+  T* data() { return data_; }
+  const T* data() const { return data_; }
+  size_t size() const { return count_; }
+  size_t bytes() const { return count_ * sizeof(T); }
+
+ private:
+  T* data_ = nullptr;
+  size_t count_ = 0;
+};
+
+void* allocateTouched(size_t bytes);
+void freeTouched(void* data);
+
+template <class T>
+OutputBuffer<T>::OutputBuffer(size_t count)
+    : data_(static_cast<T*>(allocateTouched(count * sizeof(T)))), count_(count) {
+  static_assert(std::is_trivially_copyable_v<T>);
+}
+template <class T>
+OutputBuffer<T>::~OutputBuffer() {
+  freeTouched(data_);
+}
+
+// Times `work` per iteration with the wall clock (the work runs on every core) and reports
+// others_cpu: the share of the machine other processes took meanwhile (machine_load.h).
+template <class Work>
+double timeWallIterations(benchmark::State& state, Work work) {
+  using Clock = std::chrono::steady_clock;
+  double total = 0;
+  const CpuSample before = sampleCpu();
+  for (auto _ : state) {
+    auto start = Clock::now();
+    work();
+    double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    state.SetIterationTime(seconds);
+    total += seconds;
+  }
+  state.counters["others_cpu"] = othersShare(before, sampleCpu());
+  return total;
+}
+
+// samples, bytes_written (xyz floats), GB/s, floor_ms (those bytes at the machine's measured
+// write bandwidth, write_floor.h) and x_floor (time / floor). `seconds`: total of all iterations.
+void reportSampleCounters(benchmark::State& state, size_t samples, double seconds);
+
+// One prepared case at a time (buffers of up to a few GB): asking for another key frees the
+// previous case first. A single slot for every kind of case in this process.
+struct TessCase {
+  virtual ~TessCase() = default;
+};
+
+struct TessCaseSlot {
+  std::string key;
+  std::unique_ptr<TessCase> state;
+};
+TessCaseSlot& tessCaseSlot();
+
+template <class State, class Make>
+State& currentCase(const std::string& key, Make make) {
+  TessCaseSlot& slot = tessCaseSlot();
+  if (slot.key != key || !slot.state) {
+    slot.state.reset();
+    slot.key.clear();
+    slot.state = make();
+    slot.key = key;
+  }
+  return static_cast<State&>(*slot.state);
+}
+
+double fastestOf(const std::vector<double>& values);
+
+}  // namespace tessera::bench
