@@ -109,7 +109,7 @@ void prepareTessera(UniformCase& c) {
 }
 
 void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
-  bestWriteBandwidth();  // calibrate before any large buffer exists
+  calibrateWriteFloor();  // before any large buffer exists
   UniformCase* c = nullptr;
   try {
     c = &uniformCase(name, p);
@@ -149,7 +149,7 @@ void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
 // Skipped unless bit-identical to the library (core's output is written over; Tessera's case
 // has already run when the cases are run in their registered order, else it is recomputed).
 void BM_TessUniform_Proposed(benchmark::State& state, std::string name, int p) {
-  bestWriteBandwidth();
+  calibrateWriteFloor();
   UniformCase* c = nullptr;
   try {
     c = &uniformCase(name, p);
@@ -193,7 +193,7 @@ void BM_TessUniform_Proposed(benchmark::State& state, std::string name, int p) {
 
 // The OSD methods share the sample set and the output buffer of their case.
 UniformCase* osdCase(benchmark::State& state, const std::string& name, int p) {
-  bestWriteBandwidth();
+  calibrateWriteFloor();
   try {
     UniformCase& c = uniformCase(name, p);
     if (!c.osd) {

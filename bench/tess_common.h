@@ -90,6 +90,10 @@ double timeWallIterations(benchmark::State& state, Work work) {
   return total;
 }
 
+// Measures the write floor before any case buffer exists: the best two-thread bandwidth over
+// 20 passes of each store kind write_floor.h offers (recorded there for bestWriteBandwidth()).
+void calibrateWriteFloor();
+
 // samples, bytes_written (xyz floats), GB/s, floor_ms (those bytes at the machine's measured
 // write bandwidth, write_floor.h) and x_floor (time / floor). `seconds`: total of all iterations.
 void reportSampleCounters(benchmark::State& state, size_t samples, double seconds);
