@@ -54,6 +54,35 @@ int addVec3Accessor(tinygltf::Model& model, int view, const std::vector<Vec3>& v
   return int(model.accessors.size() - 1);
 }
 
+// Indices as 16-bit integers when every vertex fits (a quarter less to send and to hash for
+// typical results of up to ~130K triangles); 65535 is glTF's primitive-restart value and may not
+// be used, so 16 bits hold at most 65535 vertices.
+bool fitsShortIndices(const TriangleMesh& mesh) { return mesh.positions.size() <= 65535; }
+
+void appendIndices(std::vector<unsigned char>& buffer, const TriangleMesh& mesh) {
+  if (!fitsShortIndices(mesh)) {
+    appendBytes(buffer, mesh.indices);
+    return;
+  }
+  std::vector<uint16_t> shortIndices(mesh.indices.begin(), mesh.indices.end());
+  appendBytes(buffer, shortIndices);
+  buffer.resize((buffer.size() + 3) & ~size_t(3));  // GLB chunks end on a 4-byte boundary
+}
+
+int addIndexAccessor(tinygltf::Model& model, size_t offset, const TriangleMesh& mesh) {
+  const bool shortIndices = fitsShortIndices(mesh);
+  const size_t elementBytes = shortIndices ? sizeof(uint16_t) : sizeof(uint32_t);
+  tinygltf::Accessor indices;
+  indices.bufferView = addView(model, offset, mesh.indices.size() * elementBytes,
+                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  indices.componentType =
+      shortIndices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  indices.type = TINYGLTF_TYPE_SCALAR;
+  indices.count = mesh.indices.size();
+  model.accessors.push_back(indices);
+  return int(model.accessors.size() - 1);
+}
+
 }  // namespace
 
 std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshName) {
@@ -63,7 +92,7 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshN
   tinygltf::Buffer buffer;
   appendBytes(buffer.data, mesh.positions);
   appendBytes(buffer.data, mesh.normals);
-  appendBytes(buffer.data, mesh.indices);
+  appendIndices(buffer.data, mesh);
   model.buffers.push_back(buffer);
 
   const size_t vertexBytes = mesh.positions.size() * sizeof(Vec3);
@@ -71,18 +100,12 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshN
                                   mesh.positions, true);
   int normals = addVec3Accessor(model, addView(model, vertexBytes, vertexBytes, TINYGLTF_TARGET_ARRAY_BUFFER),
                                 mesh.normals, false);
-  tinygltf::Accessor indices;
-  indices.bufferView = addView(model, 2 * vertexBytes, mesh.indices.size() * sizeof(uint32_t),
-                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-  indices.type = TINYGLTF_TYPE_SCALAR;
-  indices.count = mesh.indices.size();
-  model.accessors.push_back(indices);
+  int indices = addIndexAccessor(model, 2 * vertexBytes, mesh);
 
   tinygltf::Primitive primitive;
   primitive.attributes["POSITION"] = positions;
   primitive.attributes["NORMAL"] = normals;
-  primitive.indices = int(model.accessors.size() - 1);
+  primitive.indices = indices;
   primitive.mode = TINYGLTF_MODE_TRIANGLES;
   tinygltf::Mesh gltfMesh;
   gltfMesh.name = meshName;
@@ -104,6 +127,72 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshN
   return std::vector<uint8_t>(bytes.begin(), bytes.end());
 }
 
+namespace {
+
+// The bytes of accessor `index`, checked to lie inside its view and buffer.
+struct AccessorBytes {
+  const unsigned char* data;
+  size_t count;
+};
+
+AccessorBytes accessorBytes(const tinygltf::Model& model, int index, int componentType, int type,
+                            size_t elementSize, const char* what) {
+  if (index < 0 || size_t(index) >= model.accessors.size()) throwInvalid(std::string("GLB has no ") + what);
+  const auto& accessor = model.accessors[index];
+  if (accessor.componentType != componentType || accessor.type != type) {
+    throwInvalid(std::string("GLB ") + what + " accessor has an unexpected type");
+  }
+  if (accessor.bufferView < 0 || size_t(accessor.bufferView) >= model.bufferViews.size()) {
+    throwInvalid(std::string("GLB ") + what + " accessor has no buffer view");
+  }
+  const auto& view = model.bufferViews[accessor.bufferView];
+  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
+    throwInvalid(std::string("GLB ") + what + " view has no buffer");
+  }
+  const auto& buffer = model.buffers[view.buffer];
+  const size_t bytes = accessor.count * elementSize;
+  if (view.byteStride != 0 && view.byteStride != elementSize) {
+    throwInvalid(std::string("GLB ") + what + " view is interleaved");
+  }
+  if (accessor.byteOffset + bytes > view.byteLength || view.byteOffset + view.byteLength > buffer.data.size()) {
+    throwInvalid(std::string("GLB ") + what + " accessor reaches past its buffer");
+  }
+  return {buffer.data.data() + view.byteOffset + accessor.byteOffset, accessor.count};
+}
+
+std::vector<Vec3> readVec3s(const tinygltf::Model& model, int index, const char* what) {
+  AccessorBytes bytes = accessorBytes(model, index, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                      TINYGLTF_TYPE_VEC3, sizeof(Vec3), what);
+  std::vector<Vec3> values(bytes.count);
+  if (bytes.count) std::memcpy(values.data(), bytes.data, bytes.count * sizeof(Vec3));
+  return values;
+}
+
+template <typename Index>
+std::vector<uint32_t> widenIndices(const AccessorBytes& bytes) {
+  std::vector<Index> narrow(bytes.count);
+  if (bytes.count) std::memcpy(narrow.data(), bytes.data, bytes.count * sizeof(Index));
+  return std::vector<uint32_t>(narrow.begin(), narrow.end());
+}
+
+std::vector<uint32_t> readIndices(const tinygltf::Model& model, int index) {
+  if (index >= 0 && size_t(index) < model.accessors.size() &&
+      model.accessors[index].componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+    return widenIndices<uint16_t>(accessorBytes(model, index, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                                TINYGLTF_TYPE_SCALAR, sizeof(uint16_t), "index"));
+  }
+  return widenIndices<uint32_t>(accessorBytes(model, index, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                                              TINYGLTF_TYPE_SCALAR, sizeof(uint32_t), "index"));
+}
+
+int attribute(const tinygltf::Primitive& primitive, const std::string& name) {
+  auto found = primitive.attributes.find(name);
+  if (found == primitive.attributes.end()) throwInvalid("GLB primitive has no " + name);
+  return found->second;
+}
+
+}  // namespace
+
 TriangleMesh readGlb(const std::vector<uint8_t>& bytes) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
@@ -113,23 +202,13 @@ TriangleMesh readGlb(const std::vector<uint8_t>& bytes) {
   }
   if (model.meshes.size() != 1 || model.meshes[0].primitives.size() != 1) throwInvalid("expected one primitive");
   const auto& primitive = model.meshes[0].primitives[0];
-  auto accessorData = [&](int index, size_t elementSize) {
-    const auto& accessor = model.accessors.at(index);
-    const auto& view = model.bufferViews.at(accessor.bufferView);
-    const auto& buffer = model.buffers.at(view.buffer);
-    const unsigned char* start = buffer.data.data() + view.byteOffset + accessor.byteOffset;
-    return std::make_pair(start, accessor.count * elementSize);
-  };
   TriangleMesh mesh;
-  auto [positionData, positionBytes] = accessorData(primitive.attributes.at("POSITION"), sizeof(Vec3));
-  mesh.positions.resize(positionBytes / sizeof(Vec3));
-  std::memcpy(mesh.positions.data(), positionData, positionBytes);
-  auto [normalData, normalBytes] = accessorData(primitive.attributes.at("NORMAL"), sizeof(Vec3));
-  mesh.normals.resize(normalBytes / sizeof(Vec3));
-  std::memcpy(mesh.normals.data(), normalData, normalBytes);
-  auto [indexData, indexBytes] = accessorData(primitive.indices, sizeof(uint32_t));
-  mesh.indices.resize(indexBytes / sizeof(uint32_t));
-  std::memcpy(mesh.indices.data(), indexData, indexBytes);
+  mesh.positions = readVec3s(model, attribute(primitive, "POSITION"), "position");
+  mesh.normals = readVec3s(model, attribute(primitive, "NORMAL"), "normal");
+  mesh.indices = readIndices(model, primitive.indices);
+  for (uint32_t index : mesh.indices) {
+    if (index >= mesh.positions.size()) throwInvalid("GLB index " + std::to_string(index) + " has no vertex");
+  }
   return mesh;
 }
 
