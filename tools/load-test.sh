@@ -8,11 +8,11 @@
 #   3. the gRPC overhead for a result of about 100K triangles (bigguy at relative 6e-4): a remote
 #      call end to end (the GLB streamed and its SHA-256 checked, as the CLI does) against
 #      tessellate() + writeGlb() in-process on a prebuilt patch set (what the server does once the
-#      mesh's patch set is cached), median of --runs each after 5 unmeasured runs, in alternating
-#      rounds.
+#      mesh's patch set is cached): --pairs pairs of --runs runs each way (after 5 unmeasured
+#      ones), back to back, median per side and pair, then the median over the pairs.
 #
 #   tools/load-test.sh [--build-dir build] [--out bench/LOAD-RESULTS.md] [--requests 3000]
-#                      [--levels 1,2,4,8,16,32] [--runs 30] [--rounds 3]
+#                      [--levels 1,2,4,8,16,32] [--runs 11] [--pairs 10]
 #
 # Needs the targets tessera, tessera-server and tessera-inprocess-timing in the build folder.
 # The host is shared with builds and other benchmarks: before each measurement the script waits
@@ -27,8 +27,8 @@ build=build
 out=bench/LOAD-RESULTS.md
 requests=3000
 levels=1,2,4,8,16,32
-runs=30
-rounds=3
+runs=11
+pairs=10
 warmup=5
 quiet_wait=300
 attempts=3
@@ -46,12 +46,12 @@ while [ $# -gt 0 ]; do
     --requests) requests=$2; shift 2 ;;
     --levels) levels=$2; shift 2 ;;
     --runs) runs=$2; shift 2 ;;
-    --rounds) rounds=$2; shift 2 ;;
+    --pairs) pairs=$2; shift 2 ;;
     --quiet-wait) quiet_wait=$2; shift 2 ;;
     --attempts) attempts=$2; shift 2 ;;
     --max-others) max_others=$2; shift 2 ;;
     *) echo "usage: $0 [--build-dir DIR] [--out FILE] [--requests N] [--levels LIST]" \
-            "[--runs N] [--rounds N] [--quiet-wait SECONDS] [--attempts N] [--max-others SHARE]" >&2
+            "[--runs N] [--pairs N] [--quiet-wait SECONDS] [--attempts N] [--max-others SHARE]" >&2
        exit 2 ;;
   esac
 done
@@ -75,6 +75,7 @@ stop_server() {
   fi
 }
 trap 'stop_server; rm -rf "$work"' EXIT
+trap 'exit 130' INT TERM  # so that the EXIT trap stops the server
 log() { echo "load-test: $*" >&2; }
 
 # start_server NAME [FLAGS...]: a fresh server on SQLite in $work; sets server_pid and address.
@@ -182,20 +183,24 @@ measure_quietly defaults bench --mix "$mix" --mesh meshes/bigguy "${small_reques
   --json "$work/defaults.json"
 stop_server
 
-# 3. The overhead: alternating rounds of in-process runs and remote calls, each after a quiet wait.
-log "overhead: bigguy at relative $overhead_tolerance, $rounds rounds of $runs runs each way"
+# 3. The overhead, in pairs: in-process runs, then remote calls with and without the checksum,
+# back to back, so that both sides of a pair run under the same conditions (the host's load
+# drifts over minutes); a pair disturbed by other processes is repeated as a whole.
+overhead_pair() {
+  local pair=$1
+  "$inprocess" "$models/bigguy.obj" --relative "$overhead_tolerance" --runs "$runs" \
+    --warmup "$warmup" --name bigguy >"$work/inprocess-$pair.json"
+  bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
+    --requests "$runs" --warmup "$warmup" --json "$work/remote-$pair.json"
+  bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
+    --requests "$runs" --warmup "$warmup" --no-verify --json "$work/unverified-$pair.json"
+}
+log "overhead: bigguy at relative $overhead_tolerance, $pairs pairs of $runs runs each way"
 start_server overhead
 bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
   --requests 5 >/dev/null  # fills the server's patch cache
-for round in $(seq 1 "$rounds"); do
-  measure_quietly "inprocess-$round" "$inprocess" "$models/bigguy.obj" \
-    --relative "$overhead_tolerance" --runs "$runs" --warmup "$warmup" --name bigguy
-  cp "$work/inprocess-$round.out" "$work/inprocess-$round.json"
-  measure_quietly "remote-$round" bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative \
-    --concurrency 1 --requests "$runs" --warmup "$warmup" --json "$work/remote-$round.json"
-  measure_quietly "unverified-$round" bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" \
-    --relative --concurrency 1 --requests "$runs" --warmup "$warmup" --no-verify \
-    --json "$work/unverified-$round.json"
+for pair in $(seq 1 "$pairs"); do
+  measure_quietly "pair-$pair" overhead_pair "$pair"
 done
 stop_server
 
@@ -212,7 +217,7 @@ stop_server
   echo "build_type=${build_type:-Release}"
 } >"$work/machine.txt"
 python3 tools/load_test/write_results.py "$work" "$out" \
-  --levels "$levels" --requests "$requests" --mix "$mix" --runs "$runs" --rounds "$rounds" \
+  --levels "$levels" --requests "$requests" --mix "$mix" --runs "$runs" --pairs "$pairs" \
   --overhead-tolerance "$overhead_tolerance" --warmup "$warmup" --attempts "$attempts" \
   --max-others "$max_others"
 log "wrote $out"
