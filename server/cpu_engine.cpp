@@ -9,13 +9,6 @@ namespace tessera::server {
 
 namespace {
 
-size_t bytesOf(const PatchSet& set) {
-  const RingSet& r = set.rings;
-  return set.regular.size() * (sizeof(ControlNet) + sizeof(PatchDomain) + 1) +
-         r.points.size() * sizeof(float) + r.sectorDomains.size() * (sizeof(PatchDomain) + 1) +
-         r.size() * 64;
-}
-
 TessellationOptions optionsFor(const TessellationJob& job, const CancellationToken& cancel) {
   TessellationOptions options;
   options.tolerance = job.tolerance > 0 ? job.tolerance : 1.0;
@@ -33,20 +26,8 @@ TessellationOptions optionsFor(const TessellationJob& job, const CancellationTok
 
 }  // namespace
 
-CpuTessellationEngine::CpuTessellationEngine(size_t patchCacheBytes) : patches_(patchCacheBytes) {}
-
 std::string CpuTessellationEngine::detail() const {
   return "EBOAT on the CPU: OpenSubdiv Far preprocessing, CER FAS, watertight triangulation";
-}
-
-// Keyed by id and content hash: a re-uploaded mesh under the same id never hits a stale entry.
-std::shared_ptr<const PatchSet> CpuTessellationEngine::patchesFor(const ControlMesh& mesh,
-                                                                  const TessellationJob& job) {
-  const std::string key = job.meshId + "@" + job.meshSha256;
-  if (auto cached = patches_.find(key)) return cached;
-  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh));
-  patches_.insert(key, built, bytesOf(*built));
-  return built;
 }
 
 TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const TessellationJob& job,
@@ -59,7 +40,7 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
   TessellationOutput output;
   auto start = Clock::now();
   progress("preprocessing", 0.0);
-  std::shared_ptr<const PatchSet> patches = patchesFor(mesh, job);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256);
   output.summary.timings.push_back({"preprocess", seconds(start)});
   cancel.throwIfCancelled();
 

@@ -1,20 +1,20 @@
 // The CPU tessellation engine: core's preprocessing, planning, watertight triangulation and
-// GLB writer, behind the server's TessellationEngine seam. Preprocessed patch sets are cached
-// per mesh (keyed by mesh id and content hash) within a byte budget.
+// GLB writer, behind the server's TessellationEngine seam. Preprocessed patch sets come from the
+// server's shared PatchSetCache.
 #pragma once
 
 #include <memory>
 #include <string>
 
 #include "core/patch_set.h"
-#include "server/lru_cache.h"
+#include "server/patch_set_cache.h"
 #include "server/tessellation_engine.h"
 
 namespace tessera::server {
 
 class CpuTessellationEngine : public TessellationEngine {
  public:
-  explicit CpuTessellationEngine(size_t patchCacheBytes);
+  explicit CpuTessellationEngine(PatchSetCache& patches) : patches_(patches) {}
   std::string name() const override { return "cpu"; }
   bool available() const override { return true; }
   std::string detail() const override;
@@ -22,8 +22,7 @@ class CpuTessellationEngine : public TessellationEngine {
                          const CancellationToken& cancel) override;
 
  private:
-  std::shared_ptr<const PatchSet> patchesFor(const ControlMesh& mesh, const TessellationJob& job);
-  LruCache<std::string, PatchSet> patches_;
+  PatchSetCache& patches_;
 };
 
 }  // namespace tessera::server

@@ -28,12 +28,12 @@ class UnavailableRenderBackend final : public RenderBackend {
 
 }  // namespace
 
-std::unique_ptr<RenderBackend> makeRenderBackend(size_t patchCacheBytes, bool probeDevice) {
+std::unique_ptr<RenderBackend> makeRenderBackend(PatchSetCache& patches, bool probeDevice) {
 #if TESSERA_WITH_RENDER
   return std::make_unique<VulkanRenderBackend>(
-      patchCacheBytes, gpu::DeviceSelection::fromEnvironment(), probeDevice);
+      patches, gpu::DeviceSelection::fromEnvironment(), probeDevice);
 #else
-  (void)patchCacheBytes, (void)probeDevice;
+  (void)patches, (void)probeDevice;
   return std::make_unique<UnavailableRenderBackend>();
 #endif
 }

@@ -16,6 +16,7 @@
 
 #include "core/control_mesh.h"
 #include "server/cancellation.h"
+#include "server/patch_set_cache.h"
 #include "server/tessellation_engine.h"
 
 namespace tessera::server {
@@ -111,9 +112,9 @@ class RenderBackend {
 };
 
 // The Vulkan backend when this build has one, else one that is unavailable and says why.
-// patchCacheBytes bounds the backend's cache of patch sets. probeDevice: find out at once which
+// Patch sets come from the server's shared cache. probeDevice: find out at once which
 // device the renderer will use (instance and device only; the renderer itself is created at the
 // first frame), so that GetServerInfo can name it.
-std::unique_ptr<RenderBackend> makeRenderBackend(size_t patchCacheBytes, bool probeDevice);
+std::unique_ptr<RenderBackend> makeRenderBackend(PatchSetCache& patches, bool probeDevice);
 
 }  // namespace tessera::server

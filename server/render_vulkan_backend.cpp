@@ -20,21 +20,6 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-template <typename T>
-size_t bytesOf(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
-
-// What a patch set holds, to charge it against the cache's budget.
-size_t bytesOf(const PatchSet& set) {
-  const RegularPatches& g = set.regular;
-  const RingSet& r = set.rings;
-  return sizeof(PatchSet) + bytesOf(g.bspline) + bytesOf(g.domains) + bytesOf(g.levels) +
-         bytesOf(r.shapes) + bytesOf(r.cornerEv) + bytesOf(r.levels) + bytesOf(r.pointOffsets) +
-         bytesOf(r.points) + bytesOf(r.centers) + bytesOf(r.spokeOffsets) + bytesOf(r.sharpSpokes) +
-         bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned);
-}
-
 std::string describeDevice(const gpu::DeviceInfo& info) {
   return fmt::format("{} ({}), {}, {}", info.name, info.driver, gpu::deviceKindName(info.kind),
                      info.meshShaders ? "mesh-shader path (VK_EXT_mesh_shader)"
@@ -69,9 +54,9 @@ gpu::FrameRequest frameRequestFor(const FrameJob& job) {
 
 }  // namespace
 
-VulkanRenderBackend::VulkanRenderBackend(size_t patchCacheBytes, gpu::DeviceSelection selection,
+VulkanRenderBackend::VulkanRenderBackend(PatchSetCache& patches, gpu::DeviceSelection selection,
                                          bool probeDevice)
-    : selection_(std::move(selection)), patches_(patchCacheBytes) {
+    : selection_(std::move(selection)), patches_(patches) {
   detail_ =
       "Vulkan renderer (paper §5-6: CPU planning, GPU tessellation and crack filling); "
       "device chosen at the first frame";
@@ -127,16 +112,6 @@ void VulkanRenderBackend::describe(const gpu::DeviceInfo& info, const char* when
   detail_ = fmt::format("Vulkan renderer on {}; {}", describeDevice(info), when);
 }
 
-// Keyed by id and content hash: a mesh re-uploaded under the same id never hits a stale entry.
-std::shared_ptr<const PatchSet> VulkanRenderBackend::patchesFor(const ControlMesh& mesh,
-                                                                const FrameJob& job) {
-  const std::string key = job.meshId + "@" + job.meshSha256;
-  if (auto cached = patches_.find(key)) return cached;
-  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh));
-  patches_.insert(key, built, bytesOf(*built));
-  return built;
-}
-
 gpu::FrameEngine& VulkanRenderBackend::engineLocked() {
   if (engine_) return *engine_;
   if (!unavailable_.empty()) throw RenderUnavailable(unavailable_);
@@ -182,7 +157,7 @@ RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJo
                                           const CancellationToken& cancel) {
   RenderedFrame out;
   Clock::time_point planStart = Clock::now();
-  std::shared_ptr<const PatchSet> patches = patchesFor(mesh, job);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256);
   cancel.throwIfCancelled();
   gpu::PreparedFrame prepared = gpu::prepareFrame(*patches, frameRequestFor(job));
   out.times.planMs = millisecondsSince(planStart);

@@ -19,14 +19,14 @@
 #include "core/patch_set.h"
 #include "gpu/render_engine/frame_engine.h"
 #include "gpu/vulkan/device_selection.h"
-#include "server/lru_cache.h"
+#include "server/patch_set_cache.h"
 #include "server/render_backend.h"
 
 namespace tessera::server {
 
 class VulkanRenderBackend final : public RenderBackend {
  public:
-  VulkanRenderBackend(size_t patchCacheBytes, gpu::DeviceSelection selection, bool probeDevice);
+  VulkanRenderBackend(PatchSetCache& patches, gpu::DeviceSelection selection, bool probeDevice);
   ~VulkanRenderBackend() override;
 
   std::string name() const override { return "vulkan"; }
@@ -38,14 +38,13 @@ class VulkanRenderBackend final : public RenderBackend {
                        const CancellationToken& cancel) override;
 
  private:
-  std::shared_ptr<const PatchSet> patchesFor(const ControlMesh& mesh, const FrameJob& job);
   // device_ must be held.
   gpu::FrameEngine& engineLocked();
   gpu::Frame drawLocked(const gpu::PreparedFrame& prepared);
   void describe(const gpu::DeviceInfo& info, const char* when);
 
   const gpu::DeviceSelection selection_;
-  LruCache<std::string, PatchSet> patches_;
+  PatchSetCache& patches_;
 
   std::timed_mutex device_;                 // one frame at a time on the device's one queue
   std::optional<gpu::FrameEngine> engine_;  // guarded by device_

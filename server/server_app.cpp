@@ -20,6 +20,7 @@
 #include "server/server_info_service.h"
 #include "server/tessellation_service.h"
 #include "server/cpu_engine.h"
+#include "server/patch_set_cache.h"
 #include "server/test_engines.h"
 
 #ifndef TESSERA_VERSION
@@ -49,8 +50,8 @@ std::shared_ptr<grpc::ServerCredentials> serverCredentials(const ServerConfig& c
   return grpc::SslServerCredentials(options);
 }
 
-std::unique_ptr<TessellationEngine> makeEngine(const ServerConfig& config) {
-  if (config.testEngine.empty()) return std::make_unique<CpuTessellationEngine>(config.cacheBytes);
+std::unique_ptr<TessellationEngine> makeEngine(const ServerConfig& config, PatchSetCache& patches) {
+  if (config.testEngine.empty()) return std::make_unique<CpuTessellationEngine>(patches);
   spdlog::warn("using the test engine \"{}\": results are not geometry", config.testEngine);
   return makeTestEngine(config.testEngine);
 }
@@ -90,13 +91,21 @@ v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngi
 }
 
 void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repository,
-                            AdmissionControl& admission) {
+                            const PatchSetCache& patches, AdmissionControl& admission) {
   registry.sampled("tessera_cache_hits_total", "Mesh cache lookups that found the mesh.",
                    "counter", [&] { return double(repository.cacheStats().hits); });
   registry.sampled("tessera_cache_misses_total", "Mesh cache lookups that had to load it.",
                    "counter", [&] { return double(repository.cacheStats().misses); });
   registry.sampled("tessera_cache_bytes", "Bytes of decoded meshes in the cache.", "gauge",
                    [&] { return double(repository.cacheStats().bytes); });
+  registry.sampled("tessera_patch_cache_hits_total",
+                   "Patch-set cache lookups that found the mesh preprocessed.", "counter",
+                   [&] { return double(patches.stats().hits); });
+  registry.sampled("tessera_patch_cache_misses_total",
+                   "Patch-set cache lookups that had to preprocess the mesh.", "counter",
+                   [&] { return double(patches.stats().misses); });
+  registry.sampled("tessera_patch_cache_bytes", "Bytes of preprocessed patch sets in the cache.",
+                   "gauge", [&] { return double(patches.stats().bytes); });
   registry.sampled("tessera_queue_depth", "Heavy jobs waiting for admission.", "gauge",
                    [&] { return double(admission.queued()); });
   registry.sampled("tessera_jobs_running", "Heavy jobs admitted and running.", "gauge",
@@ -190,13 +199,14 @@ int runServer(const ServerConfig& config) {
   ServerMetrics metrics(registry);
   MeshRepository repository(*store, static_cast<size_t>(config.cacheBytes));
   AdmissionControl admission(config.maxConcurrentJobs, config.maxQueuedJobs);
-  std::unique_ptr<TessellationEngine> engine = makeEngine(config);
+  PatchSetCache patches(static_cast<size_t>(config.patchCacheBytes));
+  std::unique_ptr<TessellationEngine> engine = makeEngine(config, patches);
   // Probed now so that GetServerInfo can name the device; the renderer itself is created by the
   // first frame.
   std::unique_ptr<RenderBackend> renderer =
-      makeRenderBackend(static_cast<size_t>(config.cacheBytes), /*probeDevice=*/true);
+      makeRenderBackend(patches, /*probeDevice=*/true);
   BearerAuth auth(config.token);
-  registerSampledMetrics(registry, repository, admission);
+  registerSampledMetrics(registry, repository, patches, admission);
 
   MeshServiceImpl meshService(repository, admission, auth, config.upload, metrics);
   TessellationServiceImpl tessellationService(repository, admission, *engine, auth,

@@ -115,6 +115,11 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->transform(CLI::AsSizeValue(false))
               ->capture_default_str(),
           "TESSERA_CACHE_BYTES");
+  withEnv(app.add_option("--patch-cache-bytes", c.patchCacheBytes,
+                         "Memory for preprocessed patch sets, shared by tessellation and rendering")
+              ->transform(CLI::AsSizeValue(false))
+              ->capture_default_str(),
+          "TESSERA_PATCH_CACHE_BYTES");
   withEnv(app.add_option("--shutdown-grace", c.shutdownGraceSeconds,
                          "Seconds running calls get to finish on SIGTERM")
               ->capture_default_str(),
@@ -152,6 +157,7 @@ void finalizeServerConfig(ServerConfig& c) {
     throw std::invalid_argument("--min-pixel-accuracy must be positive");
   }
   if (c.cacheBytes < 0) throw std::invalid_argument("--cache-bytes must not be negative");
+  if (c.patchCacheBytes < 0) throw std::invalid_argument("--patch-cache-bytes must not be negative");
 }
 
 }  // namespace tessera::server

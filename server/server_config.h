@@ -25,7 +25,8 @@ struct ServerConfig {
   std::string readyFile;
   std::string logLevel = "info";
   bool reflection = true;
-  int64_t cacheBytes = 512LL << 20;
+  int64_t cacheBytes = 512LL << 20;       // decoded meshes
+  int64_t patchCacheBytes = 512LL << 20;  // preprocessed patch sets, shared by all engines
   int maxConcurrentJobs = 0;  // 0: the number of hardware threads
   int maxQueuedJobs = -1;     // negative: 4 x maxConcurrentJobs
   double shutdownGraceSeconds = 5.0;

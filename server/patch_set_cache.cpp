@@ -1,0 +1,33 @@
+#include "server/patch_set_cache.h"
+
+#include <vector>
+
+namespace tessera::server {
+namespace {
+
+template <typename T>
+size_t bytesOf(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+}  // namespace
+
+size_t bytesOf(const PatchSet& set) {
+  const RegularPatches& g = set.regular;
+  const RingSet& r = set.rings;
+  return sizeof(PatchSet) + bytesOf(g.bspline) + bytesOf(g.domains) + bytesOf(g.levels) +
+         bytesOf(r.shapes) + bytesOf(r.cornerEv) + bytesOf(r.levels) + bytesOf(r.pointOffsets) +
+         bytesOf(r.points) + bytesOf(r.centers) + bytesOf(r.spokeOffsets) + bytesOf(r.sharpSpokes) +
+         bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned);
+}
+
+std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, const std::string& meshId,
+                                                   const std::string& meshSha256) {
+  const std::string key = meshId + "@" + meshSha256;
+  if (auto cached = cache_.find(key)) return cached;
+  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh));
+  cache_.insert(key, built, bytesOf(*built));
+  return built;
+}
+
+}  // namespace tessera::server

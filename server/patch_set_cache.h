@@ -1,0 +1,32 @@
+// Preprocessed patch sets (core's buildPatchSet) shared by every engine of a server, the
+// tessellation engine and the renderer alike, within one byte budget: a mesh drawn and then
+// tessellated is preprocessed once, and the budget the operator sets is the memory it takes.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/control_mesh.h"
+#include "core/patch_set.h"
+#include "server/lru_cache.h"
+
+namespace tessera::server {
+
+class PatchSetCache {
+ public:
+  explicit PatchSetCache(size_t byteBudget) : cache_(byteBudget) {}
+
+  // The mesh's patch set, built on a miss. Keyed by id and content hash, so a mesh re-uploaded
+  // under the same id never meets a stale entry. Throws what buildPatchSet throws.
+  std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshId,
+                                      const std::string& meshSha256);
+  CacheStats stats() const { return cache_.stats(); }
+
+ private:
+  LruCache<std::string, PatchSet> cache_;
+};
+
+// What a patch set holds, as charged against the budget.
+size_t bytesOf(const PatchSet& set);
+
+}  // namespace tessera::server
