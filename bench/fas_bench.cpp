@@ -16,7 +16,6 @@
 
 #include "bench/machine_load.h"
 #include "bench/osd_ring_stencils.h"
-#include "bench/prototype/fas_proposed.h"
 #include "bench/ring_workload.h"
 #include "bench/write_floor.h"
 #include "core/fas.h"
@@ -128,44 +127,25 @@ void BM_Fas_Cer(benchmark::State& state) {
                       seconds);
 }
 
-// The proposed core changes (bench/prototype/), same workload; skipped unless bit-identical to
-// the library. Not part of BM_Fas: run with --benchmark_filter=BM_Proposed.
-using RefineRingBlocks = void (*)(const RingRules&, const float*, int, int, float*);
-
-void runProposed(benchmark::State& state, RefineRingBlocks refine) {
+// BM_Fas_Cer with the kernel chosen (argument 3: 0 AVX2, 1 AVX-512): the measurement behind
+// fastestFasKernel(). Run with --benchmark_filter=BM_CerKernel.
+void BM_CerKernel(benchmark::State& state) {
   const int n = int(state.range(0)), depth = int(state.range(1));
+  const FasKernel kernel = state.range(2) != 0 ? FasKernel::kAvx512 : FasKernel::kAvx2;
+  if (!fasKernelAvailable(kernel)) {
+    state.SkipWithError("this CPU lacks the kernel's instruction set");
+    return;
+  }
   const cer::RingShape shape{n, false};
   bestWriteBandwidth();
   auto& c =
       preparedCase<CerCase>(caseKey("cer", n, depth), [&] { return prepareCer(shape, depth); });
-  {
-    const int blocks = std::min(c.blockCount, 64);
-    std::vector<float> expected(size_t(blocks) * depth * refinedBlockFloats(shape));
-    refineRingBlocks(c.rules, c.blocks->data(), blocks, depth, expected.data());
-    refine(c.rules, c.blocks->data(), blocks, depth, c.output->data());
-    if (std::memcmp(expected.data(), c.output->data(), expected.size() * sizeof(float)) != 0) {
-      state.SkipWithError("the proposed kernel is not bit-identical to core/fas.cpp");
-      return;
-    }
-  }
-  double seconds = timeIterations(
-      state, [&] { refine(c.rules, c.blocks->data(), c.blockCount, depth, c.output->data()); });
+  double seconds = timeIterations(state, [&] {
+    refineRingBlocks(c.rules, c.blocks->data(), c.blockCount, depth, c.output->data(), kernel);
+  });
   benchmark::DoNotOptimize(c.output->data());
   reportWriteCounters(state, c.output->data(), refinedBytes(shape, depth, c.blockCount * kFasLanes),
                       seconds);
-}
-
-void BM_Proposed_Cer(benchmark::State& state) {
-  runProposed(state, proposed::refineRingBlocks);
-}
-
-// The proposed kernel compiled for AVX-512 (bench/prototype/fas_proposed_avx512.cpp).
-void BM_Proposed_CerAvx512(benchmark::State& state) {
-  if (!proposed::avx512Available()) {
-    state.SkipWithError("no AVX-512 on this CPU");
-    return;
-  }
-  runProposed(state, proposed::refineRingBlocksAvx512);
 }
 
 // ---- OpenSubdiv stencil tables ---------------------------------------------------------------
@@ -331,13 +311,9 @@ void registerBenchmarks() {
           ->UseManualTime()
           ->ComputeStatistics("min", fastest)
           ->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark("BM_Proposed_Cer", BM_Proposed_Cer)
-          ->Args({n, depth})
-          ->UseManualTime()
-          ->ComputeStatistics("min", fastest)
-          ->Unit(benchmark::kMillisecond);
-      benchmark::RegisterBenchmark("BM_Proposed_CerAvx512", BM_Proposed_CerAvx512)
-          ->Args({n, depth})
+      benchmark::RegisterBenchmark("BM_CerKernel", BM_CerKernel)
+          ->Args({n, depth, 0})
+          ->Args({n, depth, 1})
           ->UseManualTime()
           ->ComputeStatistics("min", fastest)
           ->Unit(benchmark::kMillisecond);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Turns tessera-bench JSON (--benchmark_format=json) into the Markdown tables of RESULTS.md.
 
-    python3 bench/results_table.py [--stat=median|min] run.json [sweep.json ...]
+    python3 bench/results_table.py [--stat=median|min] [--bandwidth=GB/s] run.json [sweep.json ...]
 
 Every figure comes from the JSON: the median (or min) aggregate when the run had repetitions,
 else the single run. Targets checked (issue): CER FAS >= 5x faster than OpenSubdiv, and <= 2x the floor.
@@ -50,8 +50,7 @@ def fmt(value, digits=2):
     return "—" if value is None else f"{value:.{digits}f}"
 
 
-KINDS = ("BM_Fas_Cer", "BM_Proposed_Cer", "BM_Proposed_CerAvx512", "BM_Fas_OsdStencil",
-         "BM_Fas_OsdStencilBuild")
+KINDS = ("BM_Fas_Cer", "BM_Fas_OsdStencil", "BM_Fas_OsdStencilBuild")
 
 
 def cases_of(chosen):
@@ -90,15 +89,16 @@ def timed(c, kind):
     return None if run is None or run.get("error_occurred") else ms(run)
 
 
-def table1(chosen):
+def table1(chosen, reference_gbps=None):
     cases = cases_of(chosen)
     if not cases:
         return []
     header = ["n", "depth", "CER ms", "OSD ms", "OSD build ms", "floor ms", "OSD/CER", "CER/floor",
-              "CER/adjacent floor", "others_cpu"]
-    bandwidth = best_bandwidth(cases)
+              "CER/adjacent floor", "adjacent GB/s", "others_cpu"]
+    bandwidth = reference_gbps * 1e6 if reference_gbps else best_bandwidth(cases)
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     met_osd = met_floor = total = 0
+    ratios = defaultdict(list)
     for (n, d) in sorted(cases):
         c = cases[(n, d)]
         cer, osd, build = timed(c, "BM_Fas_Cer"), timed(c, "BM_Fas_OsdStencil"), timed(c, "BM_Fas_OsdStencilBuild")
@@ -106,6 +106,11 @@ def table1(chosen):
         adjacent = adjacent_floor(c, "BM_Fas_Cer")
         ratio_osd = osd / cer if cer and osd else None
         ratio_floor = cer / floor if cer and floor else None
+        ratio_adjacent = cer / adjacent if cer and adjacent else None
+        for key, value in (("OSD/CER", ratio_osd), ("CER/floor", ratio_floor),
+                           ("CER/adjacent floor", ratio_adjacent)):
+            if value is not None:
+                ratios[key].append(value)
         if ratio_osd is not None and ratio_floor is not None:
             total += 1
             met_osd += ratio_osd >= OSD_TARGET
@@ -113,47 +118,44 @@ def table1(chosen):
         others = max(run.get("others_cpu", 0.0) for run in c.values())
         lines.append("| " + " | ".join([str(n), str(d), fmt(cer), fmt(osd, 1), fmt(build, 1), fmt(floor),
                                         fmt(ratio_osd, 1), fmt(ratio_floor),
-                                        fmt(cer / adjacent if cer and adjacent else None),
+                                        fmt(ratio_adjacent),
+                                        fmt(bytes_of(c) / adjacent / 1e6 if adjacent else None, 1),
                                         fmt(others)]) + " |")
     lines.append("")
-    lines.append(f"Floor: bytes / the best write bandwidth measured in the run, "
-                 f"{bandwidth / 1e6:.1f} GB/s.")
+    source = "the bandwidth given with --bandwidth" if reference_gbps else "the best write bandwidth measured in the run"
+    lines.append(f"Floor: bytes / {source}, {bandwidth / 1e6:.1f} GB/s.")
     lines.append(f"OSD/CER >= {OSD_TARGET:g}: met in {met_osd} of {total} cases. "
                  f"CER/floor <= {FLOOR_TARGET:g}: met in {met_floor} of {total} cases.")
+    lines.append("Ranges: " + "; ".join(f"{key} {fmt(min(values))}–{fmt(max(values))}"
+                                        for key, values in ratios.items()) + ".")
     return lines
 
 
-def proposed_table(chosen):
-    cases = cases_of(chosen)
-    if not any("BM_Proposed_Cer" in c for c in cases.values()):
+def kernel_table(chosen):
+    """BM_CerKernel: core's FAS kernel forced to AVX2 (0) or AVX-512 (1), same workload."""
+    pattern = re.compile(r"^BM_CerKernel/(\d+)/(\d+)/(\d)/")
+    cells = defaultdict(dict)
+    for name, run in chosen.items():
+        m = pattern.match(name)
+        if m and not run.get("error_occurred"):
+            cells[(int(m.group(1)), int(m.group(2)))][int(m.group(3))] = run
+    if not cells:
         return []
-    header = ["n", "depth", "CER ms (core)", "proposed ms", "proposed AVX-512 ms", "floor ms",
-              "OSD/proposed", "proposed/floor", "OSD/AVX-512", "AVX-512/floor",
-              "proposed/adjacent floor"]
-    bandwidth = best_bandwidth(cases)
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    met = defaultdict(int)
-    total = 0
-    for (n, d) in sorted(cases):
-        c = cases[(n, d)]
-        cer, osd = timed(c, "BM_Fas_Cer"), timed(c, "BM_Fas_OsdStencil")
-        prop, wide = timed(c, "BM_Proposed_Cer"), timed(c, "BM_Proposed_CerAvx512")
-        floor = bytes_of(c) / bandwidth if bandwidth else None
-        div = lambda a, b: a / b if a and b else None
-        row = [div(osd, prop), div(prop, floor), div(osd, wide), div(wide, floor)]
-        if None not in row:
+    lines = ["| n | depth | AVX2 ms | AVX-512 ms | AVX2/AVX-512 | AVX2/adjacent floor | "
+             "AVX-512/adjacent floor |", "|---|---|---|---|---|---|---|"]
+    faster = total = 0
+    for (n, d) in sorted(cells):
+        narrow, wide = cells[(n, d)].get(0), cells[(n, d)].get(1)
+        a, b = (ms(narrow) if narrow else None), (ms(wide) if wide else None)
+        if a and b:
             total += 1
-            met["prop_osd"] += row[0] >= OSD_TARGET
-            met["prop_floor"] += row[1] <= FLOOR_TARGET
-            met["wide_osd"] += row[2] >= OSD_TARGET
-            met["wide_floor"] += row[3] <= FLOOR_TARGET
-        lines.append("| " + " | ".join([str(n), str(d), fmt(cer), fmt(prop), fmt(wide), fmt(floor),
-                                        fmt(row[0], 1), fmt(row[1]), fmt(row[2], 1), fmt(row[3]),
-                                        fmt(div(prop, adjacent_floor(c, "BM_Proposed_Cer")))]) + " |")
+            faster += b < a
+        lines.append("| " + " | ".join([str(n), str(d), fmt(a), fmt(b),
+                                        fmt(a / b if a and b else None),
+                                        fmt(narrow.get("x_floor") if narrow else None),
+                                        fmt(wide.get("x_floor") if wide else None)]) + " |")
     lines.append("")
-    lines.append(f"Proposed (AVX2): OSD/CER >= {OSD_TARGET:g} in {met['prop_osd']} of {total}, "
-                 f"CER/floor <= {FLOOR_TARGET:g} in {met['prop_floor']} of {total}. "
-                 f"Proposed (AVX-512): {met['wide_osd']} and {met['wide_floor']} of {total}.")
+    lines.append(f"AVX-512 faster than AVX2 in {faster} of {total} cases.")
     return lines
 
 
@@ -200,15 +202,23 @@ def sweep_table(chosen):
 
 def main(argv):
     stat = "median"
-    if argv and argv[0].startswith("--stat="):
-        stat = argv[0].split("=", 1)[1]
+    reference_gbps = None  # --bandwidth=GB/s: judge the floor target against a fixed bandwidth
+    while argv and argv[0].startswith("--"):
+        key, value = argv[0].split("=", 1)
+        if key == "--stat":
+            stat = value
+        elif key == "--bandwidth":
+            reference_gbps = float(value)
+        else:
+            sys.exit(f"unknown option {key}")
         argv = argv[1:]
     runs, contexts = load(argv)
     chosen = pick(runs, stat)
     for context in contexts:
         print(f"<!-- {context.get('date')} {context.get('host_name')} cpus={context.get('num_cpus')} "
               f"mhz={context.get('mhz_per_cpu')} load_avg={context.get('load_avg')} stat={stat} -->")
-    for section in (floor_table(chosen), table1(chosen), proposed_table(chosen), sweep_table(chosen)):
+    for section in (floor_table(chosen), table1(chosen, reference_gbps), kernel_table(chosen),
+                    sweep_table(chosen)):
         if section:
             print("\n".join(section))
             print()

@@ -10,7 +10,7 @@ process still took more than --max-others of the machine while it ran. Every att
 the merged file's "attempts" list, so nothing is hidden; the table uses the least disturbed one.
 
     python3 bench/run_quiet.py --out results.json [--repetitions 3] [--sweep] [--cases 3/4,10/6]
-                               [--priority -19] [--quiet-limit 0]
+                               [--kinds REGEX] [--priority -19] [--quiet-limit 0]
 """
 import argparse
 import json
@@ -83,6 +83,10 @@ def main():
     parser.add_argument("--quiet-limit", type=float, default=600, help="max seconds to wait")
     parser.add_argument("--sweep", action="store_true", help="BM_OsdChunkSweep instead of Table 1")
     parser.add_argument("--cases", default="", help="comma list of n/depth, default all")
+    parser.add_argument("--kinds",
+                        default="(BM_Fas_Cer|BM_CerKernel|BM_Fas_OsdStencil|BM_Fas_OsdStencilBuild)",
+                        help="benchmark-name regex run per case (default: Table 1 and the AVX2 "
+                             "and AVX-512 FAS kernels, BM_CerKernel)")
     parser.add_argument("--priority", type=int, default=None,
                         help="autogroup nice for the benchmark, e.g. -19 on a shared machine")
     parser.add_argument("--pause", type=float, default=10,
@@ -93,7 +97,7 @@ def main():
         cases = [tuple(int(x) for x in c.split("/")) for c in args.cases.split(",")]
     else:
         cases = [(n, d) for n in VALENCES for d in DEPTHS]
-    kinds = "BM_OsdChunkSweep" if args.sweep else "(BM_Fas_Cer|BM_Proposed_Cer|BM_Proposed_CerAvx512|BM_Fas_OsdStencil|BM_Fas_OsdStencilBuild)"
+    kinds = "BM_OsdChunkSweep" if args.sweep else args.kinds
     merged = {"context": None, "benchmarks": [], "attempts": []}
     for n, d in cases:
         pattern = f"^{kinds}/{n}/{d}/"

@@ -1,12 +1,13 @@
 #include "core/fas.h"
 
-#include <cstring>
-
 #include <tbb/parallel_for.h>
 
-#if defined(__AVX__)
-#include <immintrin.h>
-#endif
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+
+#include "core/error.h"
+#include "core/fas_kernel.h"
 
 namespace tessera {
 
@@ -28,7 +29,8 @@ std::vector<float> packRingBlocks(const cer::RingShape& shape, const float* ring
       int ring = std::min(b * kFasLanes + lane, count - 1);
       const float* source = rings + size_t(ring) * points * 3;
       for (int p = 0; p < points; ++p) {
-        for (int c = 0; c < 3; ++c) block[p * kFasBlockFloats + c * kFasLanes + lane] = source[3 * p + c];
+        for (int c = 0; c < 3; ++c)
+          block[p * kFasBlockFloats + c * kFasLanes + lane] = source[3 * p + c];
       }
     }
   }
@@ -37,53 +39,65 @@ std::vector<float> packRingBlocks(const cer::RingShape& shape, const float* ring
 
 namespace {
 
-// The refined sets are written once and not read back here: stream them past the cache.
-void streamOut(float* destination, const float* source, size_t floats) {
-#if defined(__AVX__)
-  if (reinterpret_cast<uintptr_t>(destination) % 32 == 0) {
-    for (size_t i = 0; i < floats; i += 8) {
-      _mm256_stream_ps(destination + i, _mm256_load_ps(source + i));
-    }
-    return;
-  }
-#endif
-  std::memcpy(destination, source, floats * sizeof(float));
-}
-
-// The ring buffer: two refined sets in turn; the next ring is the prefix of the last one.
-struct alignas(64) RingBuffer {
-  explicit RingBuffer(size_t floats) : storage(2 * floats + 16) {
-    auto base = reinterpret_cast<uintptr_t>(storage.data());
-    float* aligned = storage.data() + ((32 - base % 32) % 32) / sizeof(float);
+// Each task's ring buffer: two refined blocks in turn, the next ring being the prefix of the
+// last one. 64-byte aligned for the kernel's aligned stores; left uninitialised, since every point
+// is written before it is read (zeroing it cost a memset per task).
+struct RingBuffer {
+  explicit RingBuffer(size_t floats)
+      : storage(std::make_unique_for_overwrite<float[]>(2 * floats + 16)) {
+    auto base = reinterpret_cast<uintptr_t>(storage.get());
+    float* aligned = storage.get() + ((64 - base % 64) % 64) / sizeof(float);
     halves[0] = aligned;
     halves[1] = aligned + floats;
   }
-  std::vector<float> storage;
+  std::unique_ptr<float[]> storage;
   float* halves[2];
 };
 
+using BlockKernel = void (*)(const fas_kernel::BlockJob&, int, int);
+
+BlockKernel blockKernel(FasKernel kernel) {
+  if (!fasKernelAvailable(kernel)) throwUnsupported("this CPU has no AVX-512 for the FAS kernel");
+  return kernel == FasKernel::kAvx512 ? fas_kernel::refineBlocksAvx512
+                                      : fas_kernel::refineBlocksAvx2;
+}
+
 }  // namespace
+
+bool fasKernelAvailable(FasKernel kernel) {
+  return kernel == FasKernel::kAvx2 || fas_kernel::hasAvx512();
+}
+
+FasKernel fastestFasKernel() {
+  static const FasKernel fastest =
+      fasKernelAvailable(FasKernel::kAvx512) ? FasKernel::kAvx512 : FasKernel::kAvx2;
+  return fastest;
+}
 
 void refineRingBlocks(const RingRules& rules, const float* blocks, int blockCount, int depth,
                       float* output) {
-  const size_t ringFloats = ringBlockFloats(rules.shape);
-  const size_t refinedFloats = refinedBlockFloats(rules.shape);
-  tbb::parallel_for(tbb::blocked_range<int>(0, blockCount, 16), [&](const tbb::blocked_range<int>& range) {
-    RingBuffer buffer(refinedFloats);
-    for (int b = range.begin(); b != range.end(); ++b) {
-      const float* ring = blocks + size_t(b) * ringFloats;
-      float* out = output + size_t(b) * depth * refinedFloats;
-      for (int level = 0; level < depth; ++level) {
-        float* refined = buffer.halves[level & 1];
-        refineRingStep<kFasBlockFloats>(rules, ring, refined);
-        streamOut(out + level * refinedFloats, refined, refinedFloats);
-        ring = refined;
-      }
-    }
-  });
-#if defined(__AVX__)
-  _mm_sfence();
-#endif
+  refineRingBlocks(rules, blocks, blockCount, depth, output, fastestFasKernel());
+}
+
+void refineRingBlocks(const RingRules& rules, const float* blocks, int blockCount, int depth,
+                      float* output, FasKernel kernel) {
+  const BlockKernel refineBlocks = blockKernel(kernel);
+  const StepProgram program = decodeStep(rules, kFasBlockFloats);
+  const fas_kernel::BlockJob shared{&program,
+                                    blocks,
+                                    output,
+                                    ringBlockFloats(rules.shape),
+                                    refinedBlockFloats(rules.shape),
+                                    depth,
+                                    {nullptr, nullptr}};
+  tbb::parallel_for(tbb::blocked_range<int>(0, blockCount, 16),
+                    [&](const tbb::blocked_range<int>& range) {
+                      RingBuffer buffer(shared.refinedFloats);
+                      fas_kernel::BlockJob job = shared;
+                      job.ringBuffer[0] = buffer.halves[0];
+                      job.ringBuffer[1] = buffer.halves[1];
+                      refineBlocks(job, range.begin(), range.end());
+                    });
 }
 
 std::vector<float> refineRing(const RingRules& rules, const float* ring, int depth) {

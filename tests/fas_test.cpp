@@ -1,10 +1,12 @@
 // FAS on CER rings against OpenSubdiv Far refining the very same ring mesh, level by level.
+#include "core/fas.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/fas.h"
+#include "core/error.h"
 #include "tests/support/far_reference.h"
 #include "tests/support/ring_meshes.h"
 
@@ -53,7 +55,8 @@ void expectFasMatchesFar(const RingCase& c, uint32_t seed) {
       Vec3d difference = Vec3d(Vec3(mine[0], mine[1], mine[2])) - reference.refinedPoints[p];
       worst = std::max(worst, length(difference));
     }
-    EXPECT_LE(worst, tolerance) << "n=" << c.sectors << (c.open ? " open" : "") << " level " << level;
+    EXPECT_LE(worst, tolerance) << "n=" << c.sectors << (c.open ? " open" : "") << " level "
+                                << level;
     ev = reference.ev;
     spoke = reference.firstSpoke;
   }
@@ -66,12 +69,12 @@ TEST(Fas, MatchesOpenSubdivAtEveryLevelForSmoothRings) {
 }
 
 TEST(Fas, MatchesOpenSubdivForCreaseDartAndCornerRings) {
-  expectFasMatchesFar({5, false, {1, 0, 1, 0, 0}, false, 5}, 1);   // crease through the EV
+  expectFasMatchesFar({5, false, {1, 0, 1, 0, 0}, false, 5}, 1);  // crease through the EV
   expectFasMatchesFar({6, false, {1, 0, 0, 1, 0, 0}, false, 5}, 2);
-  expectFasMatchesFar({4, false, {1, 1, 0, 0}, false, 5}, 3);      // bent crease, valence 4
-  expectFasMatchesFar({5, false, {0, 0, 1, 0, 0}, false, 5}, 4);   // dart
+  expectFasMatchesFar({4, false, {1, 1, 0, 0}, false, 5}, 3);        // bent crease, valence 4
+  expectFasMatchesFar({5, false, {0, 0, 1, 0, 0}, false, 5}, 4);     // dart
   expectFasMatchesFar({6, false, {1, 0, 1, 0, 1, 0}, false, 5}, 5);  // three creases: corner
-  expectFasMatchesFar({5, false, {}, true, 5}, 6);                 // tagged corner
+  expectFasMatchesFar({5, false, {}, true, 5}, 6);                   // tagged corner
 }
 
 TEST(Fas, MatchesOpenSubdivForBoundaryRings) {
@@ -79,34 +82,77 @@ TEST(Fas, MatchesOpenSubdivForBoundaryRings) {
   expectFasMatchesFar({4, true, {0, 0, 1, 0, 0}, false, 5}, 210);  // boundary + interior crease
 }
 
-TEST(Fas, BlockedSimdPathEqualsScalarPathBitForBit) {
-  for (int n : {3, 5, 7}) {
-    cer::RingShape shape{n, false};
-    RingRules rules = makeRingRules(shape, nullptr, false);
-    const int count = 2 * kFasLanes + 3, depth = 4;
-    std::vector<float> rings;
+// refineRingBlocks (decoded step program, SIMD blocks, `kernel`'s instruction set) against the
+// scalar per-point path, bit for bit, for every lane of a padded last block.
+void expectBlocksEqualScalar(const RingCase& c, FasKernel kernel) {
+  cer::RingShape shape{c.sectors, c.open};
+  std::vector<uint8_t> sharp = c.sharpSpokes;
+  sharp.resize(shape.spokeCount(), 0);
+  RingRules rules = makeRingRules(shape, sharp.data(), c.cornerEv);
+  const int count = 2 * kFasLanes + 3;
+  std::vector<float> rings;
+  for (int r = 0; r < count; ++r) {
+    auto ring = ringPointsOf(testing::makeRingMesh(shape, 300 + r, sharp, c.cornerEv));
+    rings.insert(rings.end(), ring.begin(), ring.end());
+  }
+  std::vector<float> blocks = packRingBlocks(shape, rings.data(), count);
+  const int blockCount = int(blocks.size() / ringBlockFloats(shape));
+  const size_t levelFloats = refinedBlockFloats(shape);
+  // 64-byte aligned (streaming stores) unless `offset` shifts it: both store paths are checked.
+  for (size_t offset : {size_t(0), size_t(1)}) {
+    std::vector<float> storage(size_t(blockCount) * c.depth * levelFloats + 16 + offset);
+    auto base = reinterpret_cast<uintptr_t>(storage.data());
+    float* output = storage.data() + ((64 - base % 64) % 64) / sizeof(float) + offset;
+    refineRingBlocks(rules, blocks.data(), blockCount, c.depth, output, kernel);
     for (int r = 0; r < count; ++r) {
-      auto ring = ringPointsOf(testing::makeRingMesh(shape, 300 + r));
-      rings.insert(rings.end(), ring.begin(), ring.end());
-    }
-    std::vector<float> blocks = packRingBlocks(shape, rings.data(), count);
-    int blockCount = int(blocks.size() / ringBlockFloats(shape));
-    std::vector<float> output(size_t(blockCount) * depth * refinedBlockFloats(shape));
-    refineRingBlocks(rules, blocks.data(), blockCount, depth, output.data());
-    for (int r = 0; r < count; ++r) {
-      auto scalar = refineRing(rules, rings.data() + size_t(r) * shape.ringPointCount() * 3, depth);
+      auto scalar =
+          refineRing(rules, rings.data() + size_t(r) * shape.ringPointCount() * 3, c.depth);
       int block = r / kFasLanes, lane = r % kFasLanes;
-      for (int level = 0; level < depth; ++level) {
-        const float* levelBlock = output.data() + (size_t(block) * depth + level) * refinedBlockFloats(shape);
+      for (int level = 0; level < c.depth; ++level) {
+        const float* levelBlock = output + (size_t(block) * c.depth + level) * levelFloats;
         for (int p = 0; p < shape.refinedPointCount(); ++p) {
-          for (int c = 0; c < 3; ++c) {
-            ASSERT_EQ(levelBlock[p * kFasBlockFloats + c * kFasLanes + lane],
-                      scalar[(size_t(level) * shape.refinedPointCount() + p) * 3 + c])
-                << "ring " << r << " level " << level << " point " << p;
+          for (int k = 0; k < 3; ++k) {
+            ASSERT_EQ(levelBlock[p * kFasBlockFloats + k * kFasLanes + lane],
+                      scalar[(size_t(level) * shape.refinedPointCount() + p) * 3 + k])
+                << "n=" << c.sectors << (c.open ? " open" : "") << " ring " << r << " level "
+                << level << " point " << p << " offset " << offset;
           }
         }
       }
     }
+  }
+}
+
+void expectBlocksEqualScalarForEveryRingKind(FasKernel kernel) {
+  for (int n : {2, 3, 4, 5, 6, 7, 8, 9, 10})
+    expectBlocksEqualScalar({n, false, {}, false, 4}, kernel);
+  expectBlocksEqualScalar({16, false, {}, false, 3}, kernel);
+  expectBlocksEqualScalar({64, false, {}, false, 2}, kernel);              // 16-bit packed indices
+  expectBlocksEqualScalar({5, false, {1, 0, 1, 0, 0}, false, 4}, kernel);  // crease
+  expectBlocksEqualScalar({5, false, {0, 0, 1, 0, 0}, false, 4}, kernel);  // dart
+  expectBlocksEqualScalar({6, false, {1, 0, 1, 0, 1, 0}, false, 4}, kernel);  // three creases
+  expectBlocksEqualScalar({5, false, {}, true, 4}, kernel);                   // tagged corner
+  for (int k : {1, 2, 3, 5}) expectBlocksEqualScalar({k, true, {}, false, 4}, kernel);
+  expectBlocksEqualScalar({4, true, {0, 0, 1, 0, 0}, false, 4}, kernel);  // boundary + crease
+}
+
+TEST(Fas, BlockedSimdPathEqualsScalarPathBitForBit) {
+  expectBlocksEqualScalarForEveryRingKind(FasKernel::kAvx2);
+}
+
+TEST(Fas, BlockedAvx512PathEqualsScalarPathBitForBit) {
+  if (!fasKernelAvailable(FasKernel::kAvx512)) GTEST_SKIP() << "this CPU has no AVX-512";
+  expectBlocksEqualScalarForEveryRingKind(FasKernel::kAvx512);
+}
+
+TEST(Fas, DefaultBlockPathUsesAnAvailableKernel) {
+  EXPECT_TRUE(fasKernelAvailable(fastestFasKernel()));
+  if (!fasKernelAvailable(FasKernel::kAvx512)) {
+    cer::RingShape shape{3, false};
+    float dummy = 0;
+    EXPECT_THROW(refineRingBlocks(makeRingRules(shape, nullptr, false), &dummy, 0, 1, &dummy,
+                                  FasKernel::kAvx512),
+                 TesseraError);
   }
 }
 
