@@ -4,10 +4,9 @@
 // (depth estimation), Fig. 5 (η sweep) and the tightness measurement.
 //
 //   BM_TessUniform_Tessera/<model>/<p>       planTessellation (uniform p: rings refined by FAS to
-//       ⌈log₂ p⌉ − their Far level, Bézier conversion, levels max(p/2^d, 1)) + evaluatePieceGrids
-//       into a buffer allocated and touched in setup.
-//   BM_TessUniform_Proposed/<model>/<p>      the same samples, bit for bit, by the changes to
-//       core proposed in tess_proposed.h (planner storage kept between frames, AVX2 grids)
+//       ⌈log₂ p⌉ − their Far level, Bézier conversion, levels max(p/2^d, 1), no bounds proved)
+//       into a plan kept from frame to frame, gridOffsets + evaluatePieceGrids (AVX2) into a
+//       buffer allocated and touched in setup.
 //   BM_TessUniform_OsdBfr/<model>/<p>        Bfr, surfaces and (u,v) prepared in setup (tess_osd.h)
 //   BM_TessUniform_OsdBfrPerFace/<model>/<p> Bfr doing all its per-face work in the timed region
 //   BM_TessUniform_OsdEval/<model>/<p>       Far::PatchTable (Gregory end caps) + OmpEvaluator
@@ -19,8 +18,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <exception>
 #include <memory>
 #include <string>
@@ -28,7 +25,6 @@
 #include "bench/tess_common.h"
 #include "bench/tess_figures.h"
 #include "bench/tess_osd.h"
-#include "bench/tess_proposed.h"
 #include "bench/write_floor.h"
 #include "core/grid_evaluation.h"
 #include "core/tessellation_plan.h"
@@ -41,21 +37,6 @@ using Clock = std::chrono::steady_clock;
 constexpr int kUniformLevels[] = {16, 32, 64};
 constexpr int kBfrCheckFaceStride = 7;  // OsdEval is compared with Bfr on every 7th face
 
-// A hash of the output's bits (not cryptographic: it only has to notice a changed sample).
-uint64_t bitsHash(const Vec3* samples, size_t count) {
-  const unsigned char* bytes = reinterpret_cast<const unsigned char*>(samples);
-  const size_t size = count * sizeof(Vec3);
-  uint64_t hash = 1469598103934665603ull;
-  size_t i = 0;
-  for (; i + 8 <= size; i += 8) {
-    uint64_t word;
-    std::memcpy(&word, bytes + i, 8);
-    hash = (hash ^ word) * 1099511628211ull;
-  }
-  for (; i < size; ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
-  return hash;
-}
-
 double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -65,14 +46,13 @@ double millisecondsSince(Clock::time_point start) {
 struct UniformCase : TessCase {
   const LoadedModel* model = nullptr;
   int level = 0;
-  // Tessera
+  // Tessera: the plan and offsets are kept from frame to frame, as a viewer would keep them
+  TessellationPlan plan;
+  std::vector<size_t> offsets;
   size_t tessSamples = 0, pieces = 0;
   std::unique_ptr<OutputBuffer<Vec3>> tessOut;
   double tessError = -1;  // max distance of checked samples to the limit surface / diagonal
   double tessInnermostError = -1;  // the same over innermost (approximated) pieces only
-  uint64_t tessHash = 0;  // of core's output, which the proposed changes must reproduce
-  std::unique_ptr<proposed::UniformPlanner> planner;
-  std::string proposedError;
   // OpenSubdiv
   std::unique_ptr<OsdUniformSamples> osd;
   std::unique_ptr<OutputBuffer<float>> osdOut;
@@ -90,22 +70,24 @@ UniformCase& uniformCase(const std::string& name, int p) {
   });
 }
 
+// Table 2 times the tessellation alone, as the paper does: no distance bound is proved.
 TessellationOptions uniformOptions(int p) {
   TessellationOptions options;
   options.uniformLevel = p;
+  options.uniformBound = false;
   return options;
 }
 
 void prepareTessera(UniformCase& c) {
   if (c.tessOut) return;
-  TessellationPlan plan = planTessellation(c.model->patches, uniformOptions(c.level));
-  std::vector<size_t> offsets = gridOffsets(plan.pieces);
-  c.tessSamples = offsets.back();
-  c.pieces = plan.pieces.size();
+  planTessellation(c.model->patches, uniformOptions(c.level), c.plan);
+  gridOffsets(c.plan.pieces, c.offsets);
+  c.tessSamples = c.offsets.back();
+  c.pieces = c.plan.pieces.size();
   c.tessOut = std::make_unique<OutputBuffer<Vec3>>(c.tessSamples);
-  evaluatePieceGrids(plan.pieces, offsets, c.tessOut->data());
-  c.tessError = sampledLimitDeviation(*c.model, plan, offsets, c.tessOut->data(), c.tessInnermostError);
-  c.tessHash = bitsHash(c.tessOut->data(), c.tessSamples);
+  evaluatePieceGrids(c.plan.pieces, c.offsets, c.tessOut->data());
+  c.tessError =
+      sampledLimitDeviation(*c.model, c.plan, c.offsets, c.tessOut->data(), c.tessInnermostError);
 }
 
 void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
@@ -123,11 +105,11 @@ void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
   bool sizesMatch = true;
   double seconds = timeWallIterations(state, [&] {
     auto start = Clock::now();
-    TessellationPlan plan = planTessellation(c->model->patches, options);
-    std::vector<size_t> offsets = gridOffsets(plan.pieces);
+    planTessellation(c->model->patches, options, c->plan);
+    gridOffsets(c->plan.pieces, c->offsets);
     auto planned = Clock::now();
-    sizesMatch = sizesMatch && offsets.back() == c->tessSamples;
-    if (sizesMatch) evaluatePieceGrids(plan.pieces, offsets, c->tessOut->data());
+    sizesMatch = sizesMatch && c->offsets.back() == c->tessSamples;
+    if (sizesMatch) evaluatePieceGrids(c->plan.pieces, c->offsets, c->tessOut->data());
     planMs += std::chrono::duration<double, std::milli>(planned - start).count();
     evalMs += millisecondsSince(planned);
   });
@@ -144,51 +126,6 @@ void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
   state.counters["rings"] = double(c->model->patches.rings.size());
   state.counters["max_err_rel"] = c->tessError;
   state.counters["innermost_err_rel"] = c->tessInnermostError;
-}
-
-// Skipped unless bit-identical to the library (core's output is written over; Tessera's case
-// has already run when the cases are run in their registered order, else it is recomputed).
-void BM_TessUniform_Proposed(benchmark::State& state, std::string name, int p) {
-  calibrateWriteFloor();
-  UniformCase* c = nullptr;
-  try {
-    c = &uniformCase(name, p);
-    prepareTessera(*c);
-    if (!c->planner) {
-      c->planner = std::make_unique<proposed::UniformPlanner>();
-      c->planner->plan(c->model->patches, p);
-      if (c->planner->samples() != c->tessSamples) {
-        c->proposedError = "the proposed planner's sample count differs from the library's";
-      } else {
-        c->planner->evaluate(c->tessOut->data());
-        if (bitsHash(c->tessOut->data(), c->tessSamples) != c->tessHash) {
-          c->proposedError = "the proposed planner's samples are not bit-identical to the library's";
-        }
-      }
-    }
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  if (!c->proposedError.empty()) {
-    state.SkipWithError(c->proposedError.c_str());
-    return;
-  }
-  double planMs = 0, evalMs = 0;
-  double seconds = timeWallIterations(state, [&] {
-    auto start = Clock::now();
-    c->planner->plan(c->model->patches, p);
-    auto planned = Clock::now();
-    c->planner->evaluate(c->tessOut->data());
-    planMs += std::chrono::duration<double, std::milli>(planned - start).count();
-    evalMs += millisecondsSince(planned);
-  });
-  benchmark::DoNotOptimize(c->tessOut->data());
-  reportSampleCounters(state, c->planner->samples(), seconds);
-  const double iterations = double(state.iterations());
-  state.counters["plan_ms"] = planMs / iterations;
-  state.counters["eval_ms"] = evalMs / iterations;
-  state.counters["pieces"] = double(c->planner->pieces());
 }
 
 // The OSD methods share the sample set and the output buffer of their case.
@@ -268,7 +205,6 @@ void registerUniform() {
   using Method = void (*)(benchmark::State&, std::string, int);
   const std::pair<const char*, Method> methods[] = {
       {"BM_TessUniform_Tessera", BM_TessUniform_Tessera},
-      {"BM_TessUniform_Proposed", BM_TessUniform_Proposed},
       {"BM_TessUniform_OsdBfr", BM_TessUniform_OsdBfr},
       {"BM_TessUniform_OsdBfrPerFace", BM_TessUniform_OsdBfrPerFace},
       {"BM_TessUniform_OsdEval", BM_TessUniform_OsdEval},

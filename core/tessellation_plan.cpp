@@ -1,16 +1,17 @@
 #include "core/tessellation_plan.h"
 
+#include <tbb/combinable.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/parallel_for.h>
-
 #include "core/bicubic.h"
 #include "core/depth_tables.h"
-#include "core/error.h"
-#include "core/fas.h"
+#include "core/fas_rules.h"
 #include "core/innermost_patch.h"
-#include "core/ring_refinement.h"
+#include "core/ring_patches.h"
 
 namespace tessera {
 
@@ -35,32 +36,38 @@ class ToleranceModel {
     near_ = 1e-2 * length(c.target - c.eye);
   }
 
-  double forPoints(const Vec3* points, int count, Vec3 offset = {}) const {
+  double forPoints(const Vec3* points, int count) const {
     if (!options_.camera) return epsilon_;
     double nearest = INFINITY;
-    for (int i = 0; i < count; ++i) {
-      nearest = std::min(nearest, dot(Vec3d(points[i] + offset) - options_.camera->eye, forward_));
-    }
+    for (int i = 0; i < count; ++i) nearest = std::min(nearest, depthOf(points[i]));
+    return atDepth(nearest);
+  }
+
+  // A stored ring: xyz floats relative to its centre.
+  double forRing(const float* ring, int count, Vec3 center) const {
+    if (!options_.camera) return epsilon_;
+    double nearest = INFINITY;
+    for (int i = 0; i < count; ++i)
+      nearest =
+          std::min(nearest, depthOf(Vec3(ring[3 * i], ring[3 * i + 1], ring[3 * i + 2]) + center));
+    return atDepth(nearest);
+  }
+
+ private:
+  double depthOf(Vec3 point) const { return dot(Vec3d(point) - options_.camera->eye, forward_); }
+  double atDepth(double nearest) const {
     double k = pixelScale_;
     return k * std::max(nearest, near_) / (1.0 + k);
   }
 
- private:
   const TessellationOptions& options_;
   double epsilon_ = 0;
   Vec3d forward_;
   double pixelScale_ = 0, near_ = 0;
 };
 
-int uniformLevel(int p, int depth) { return std::max(p >> std::min(depth, 30), 1); }
-
-BezierPiece exactPiece(const ControlNet& bspline, const PatchDomain& domain, PieceKind kind, int depth) {
-  BezierPiece piece;
-  bsplineToBezier(bspline.data(), piece.bezier.data());
-  piece.domain = domain;
-  piece.kind = kind;
-  piece.depth = static_cast<uint8_t>(depth);
-  return piece;
+int uniformLevel(int p, int depth) {
+  return std::max(p >> std::min(depth, 30), 1);
 }
 
 // M_uu + 2 M_uv + M_vv of a bicubic Bézier from its second differences (MATH.md §4).
@@ -74,16 +81,33 @@ double curvatureBound(const Vec3* b) {
     }
   }
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) uv = std::max(uv, length(at(i, j) - at(i, j + 1) - at(i + 1, j) + at(i + 1, j + 1)));
+    for (int j = 0; j < 3; ++j)
+      uv = std::max(uv, length(at(i, j) - at(i, j + 1) - at(i + 1, j) + at(i + 1, j + 1)));
   }
   return 6 * uu + 2 * 9 * uv + 6 * vv;
 }
 
-void assignLevel(BezierPiece& piece, const TessellationOptions& options, double epsilon) {
+// What planning a piece needs besides the piece: the request, its tolerance model, and whether
+// a uniform-level plan proves its bounds.
+struct Planning {
+  const TessellationOptions& options;
+  const ToleranceModel& tolerance;
+  bool proveBound;
+};
+
+void assignLevel(BezierPiece& piece, const Planning& planning, double epsilon) {
+  const TessellationOptions& options = planning.options;
+  if (options.uniformLevel > 0 && !planning.proveBound) {
+    piece.level = uniformLevel(options.uniformLevel, piece.depth);
+    piece.tessellationBound = float(kBoundNotComputed);
+    piece.tolerance = float(epsilon);  // its approximation bound is not known
+    return;
+  }
   piece.tolerance = float(epsilon + piece.approximationBound);
   if (options.uniformLevel > 0) {
     piece.level = uniformLevel(options.uniformLevel, piece.depth);
-    piece.tessellationBound = float(curvatureBound(piece.bezier.data()) / (8.0 * piece.level * piece.level));
+    piece.tessellationBound =
+        float(curvatureBound(piece.bezier.data()) / (8.0 * piece.level * piece.level));
     return;
   }
   double achieved;
@@ -91,16 +115,33 @@ void assignLevel(BezierPiece& piece, const TessellationOptions& options, double 
   piece.tessellationBound = float(achieved);
 }
 
+// Every field of a piece that is a B-spline patch exactly (a reused slot keeps nothing old).
+void planExactPiece(BezierPiece& piece, const ControlNet& bspline, const PatchDomain& domain,
+                    PieceKind kind, int depth, const Planning& planning) {
+  bsplineToBezier(bspline.data(), piece.bezier.data());
+  piece.domain = domain;
+  piece.kind = kind;
+  piece.depth = static_cast<uint8_t>(depth);
+  piece.approximationBound = 0;
+  piece.ring = -1;
+  assignLevel(piece, planning, planning.tolerance.forPoints(piece.bezier.data(), 16));
+}
+
 // Sdc's smooth limit tangent masks (catmarkScheme.h): the exact normal at a smooth EV.
 Vec3d smoothLimitNormal(const RingRules& rules, const float* ring) {
   const int n = rules.shape.sectors;
   const double theta = 2 * M_PI / n;
-  const double lambda = 5.0 / 16 + (std::cos(theta) + std::cos(theta / 2) * std::sqrt(2 * (9 + std::cos(theta)))) / 16;
+  const double lambda =
+      5.0 / 16 +
+      (std::cos(theta) + std::cos(theta / 2) * std::sqrt(2 * (9 + std::cos(theta)))) / 16;
   const double faceScale = n == 4 ? 1.0 : 1.0 / (4 * lambda - 1);
-  auto point = [&](int index) { return Vec3d(ring[3 * index], ring[3 * index + 1], ring[3 * index + 2]); };
+  auto point = [&](int index) {
+    return Vec3d(ring[3 * index], ring[3 * index + 1], ring[3 * index + 2]);
+  };
   Vec3d t1, t2;
   for (int i = 0; i < n; ++i) {
-    double edge = 4 * std::cos(i * theta), face = faceScale * (std::cos(i * theta) + std::cos((i + 1) * theta));
+    double edge = 4 * std::cos(i * theta),
+           face = faceScale * (std::cos(i * theta) + std::cos((i + 1) * theta));
     Vec3d e = point(cer::ringIndex(i, cer::kE)), d = point(cer::ringIndex(i, cer::kD));
     t1 += e * edge + d * face;
     int j = (i + 1) % n;  // tan2 is tan1 rotated by one position
@@ -111,64 +152,151 @@ Vec3d smoothLimitNormal(const RingRules& rules, const float* ring) {
   return l > 0 ? normal * (1.0 / l) : Vec3d();
 }
 
-struct RingPlan {
-  std::vector<BezierPiece> pieces;
+// What is known of a ring before it is refined: enough to give its pieces their slots.
+struct RingLayout {
   int depth = 0;
-  Vec3d evNormal;
+  double bound = 0;  // of its innermost pieces (kBoundNotComputed when not proved)
+  size_t first = 0;  // its first piece in the plan
 };
 
-RingPlan planRing(const PatchSet& patches, size_t r, const TessellationOptions& options,
-                  const ToleranceModel& tolerance) {
-  const RingSet& rings = patches.rings;
+RingLayout layoutRing(const RingSet& rings, size_t r, const Planning& planning) {
+  const TessellationOptions& options = planning.options;
   const RingRules rules = rings.rules(r);
-  const Vec3 center = rings.centers[r];
   const float* ring = rings.ringPoints(r);
-  std::vector<Vec3> ringPoints(rules.shape.ringPointCount());
-  for (size_t p = 0; p < ringPoints.size(); ++p) ringPoints[p] = Vec3(ring[3 * p], ring[3 * p + 1], ring[3 * p + 2]);
-  const double epsilon = tolerance.forPoints(ringPoints.data(), int(ringPoints.size()), center);
-
-  RingPlan plan;
-  DepthEstimate estimate{0, 0};
+  RingLayout layout;
   if (options.uniformLevel > 0) {
     int target = int(std::ceil(std::log2(double(options.uniformLevel))));
-    estimate.depth = std::max(0, target - rings.levels[r]);
-    estimate.bound = boundAtDepth(rules, ring, estimate.depth);
-  } else {
-    estimate = estimateDepth(rules, ring, options.eta * epsilon);
+    layout.depth = std::max(0, target - rings.levels[r]);
+    layout.bound =
+        planning.proveBound ? boundAtDepth(rules, ring, layout.depth) : kBoundNotComputed;
+    return layout;
   }
-  plan.depth = estimate.depth;
-  RingPieces pieces;
-  emitRingPieces(rings, r, estimate.depth, pieces);
-  for (size_t p = 0; p < pieces.bspline.size(); ++p) {
-    BezierPiece piece = exactPiece(pieces.bspline[p], pieces.domains[p], PieceKind::kFas,
-                                   rings.levels[r] + pieces.depths[p]);
-    assignLevel(piece, options, tolerance.forPoints(piece.bezier.data(), 16));
-    plan.pieces.push_back(piece);
+  const double epsilon =
+      planning.tolerance.forRing(ring, rules.shape.ringPointCount(), rings.centers[r]);
+  DepthEstimate estimate = estimateDepth(rules, ring, options.eta * epsilon);
+  layout.depth = estimate.depth;
+  layout.bound = estimate.bound;
+  return layout;
+}
+
+int ownedSectors(const RingSet& rings, size_t r) {
+  const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
+  return int(
+      std::count_if(owned, owned + rings.shapes[r].sectors, [](uint8_t o) { return o != 0; }));
+}
+
+// Gives every ring its range of slots after the regular pieces: a FAS level uncovers
+// kPatchesPerSector patches per owned sector, and each owned sector ends in one innermost piece.
+size_t placeRings(const RingSet& rings, size_t regularPieces, std::vector<RingLayout>& layouts) {
+  size_t next = regularPieces;
+  for (size_t r = 0; r < rings.size(); ++r) {
+    layouts[r].first = next;
+    next += size_t(ownedSectors(rings, r)) * (kPatchesPerSector * layouts[r].depth + 1);
   }
-  const float* innermost = pieces.innermostRing.data();
+  return next;
+}
+
+// The FAS patches of levels 1..depth, then the innermost Béziers, in the order emitRingPieces
+// gives them, written from out[0]. `levels` is the thread's scratch for the refined rings.
+void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
+                    const Planning& planning, std::vector<float>& levels, BezierPiece* out,
+                    Vec3d& evNormal) {
+  const RingRules rules = rings.rules(r);
+  const cer::RingShape& shape = rules.shape;
+  const Vec3 center = rings.centers[r];
+  const PatchDomain* sectorDomains = rings.sectorDomains.data() + rings.sectorOffsets[r];
+  const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
+  const size_t refinedFloats = size_t(shape.refinedPointCount()) * 3;
+  levels.resize(std::max(levels.size(), refinedFloats * layout.depth));
+  const float* innermost = rings.ringPoints(r);
+  for (int level = 1; level <= layout.depth; ++level) {
+    float* refined = levels.data() + (level - 1) * refinedFloats;
+    refineRingStep<3>(rules, innermost, refined);
+    innermost = refined;
+    const double size = std::ldexp(1.0, -level);
+    for (int i = 0; i < shape.sectors; ++i) {
+      if (!owned[i]) continue;
+      for (int k = 0; k < kPatchesPerSector; ++k) {
+        ControlNet net;
+        sectorPatchNet(rules, refined, i, k, net.data());
+        for (Vec3& p : net) p += center;
+        int x0, y0;
+        sectorPatchOrigin(k, x0, y0);
+        planExactPiece(*out++, net, sectorDomains[i].restrict(x0 * size, y0 * size, size),
+                       PieceKind::kFas, rings.levels[r] + level, planning);
+      }
+    }
+  }
   auto fetch = [innermost](int index) {
     return Vec3(innermost[3 * index], innermost[3 * index + 1], innermost[3 * index + 2]);
   };
-  for (size_t k = 0; k < pieces.innermostSectors.size(); ++k) {
-    BezierPiece piece;
-    innermostBezier<Vec3>(rules, pieces.innermostSectors[k], fetch, piece.bezier.data());
+  const double size = std::ldexp(1.0, -layout.depth);
+  for (int i = 0; i < shape.sectors; ++i) {
+    if (!owned[i]) continue;
+    BezierPiece& piece = *out++;
+    innermostBezier<Vec3>(rules, i, fetch, piece.bezier.data());
     for (Vec3& b : piece.bezier) b += center;
-    piece.domain = pieces.innermostDomains[k];
+    piece.domain = sectorDomains[i].restrict(0, 0, size);
     piece.kind = PieceKind::kInnermost;
-    piece.depth = static_cast<uint8_t>(rings.levels[r] + estimate.depth);
-    piece.approximationBound = float(estimate.bound);
+    piece.depth = static_cast<uint8_t>(rings.levels[r] + layout.depth);
+    piece.approximationBound = float(layout.bound);
     piece.ring = static_cast<int>(r);
-    double pieceEpsilon = tolerance.forPoints(piece.bezier.data(), 16);
-    assignLevel(piece, options, std::max(pieceEpsilon - estimate.bound, (1 - options.eta) * pieceEpsilon));
-    plan.pieces.push_back(piece);
+    double pieceEpsilon = planning.tolerance.forPoints(piece.bezier.data(), 16);
+    double epsilon = planning.proveBound ? std::max(pieceEpsilon - layout.bound,
+                                                    (1 - planning.options.eta) * pieceEpsilon)
+                                         : pieceEpsilon;
+    assignLevel(piece, planning, epsilon);
   }
-  if (rules.evRule == EvRule::kSmooth && rules.shape.sectors != 2) {
-    for (int s = 0; s < rules.shape.spokeCount(); ++s) {
-      if (rules.spokeSharp(s)) return plan;
+  evNormal = Vec3d();
+  if (rules.evRule != EvRule::kSmooth || shape.sectors == 2) return;
+  for (int s = 0; s < shape.spokeCount(); ++s) {
+    if (rules.spokeSharp(s)) return;
+  }
+  evNormal = smoothLimitNormal(rules, innermost);
+}
+
+// The plan's bound and smallest tolerance, gathered per thread while the pieces are planned.
+struct PlanExtremes {
+  double bound = 0, tolerance = INFINITY;
+
+  void add(const BezierPiece* pieces, size_t count) {
+    for (size_t p = 0; p < count; ++p) {
+      bound = std::max(bound, double(pieces[p].approximationBound) + pieces[p].tessellationBound);
+      tolerance = std::min(tolerance, double(pieces[p].tolerance));
     }
-    plan.evNormal = smoothLimitNormal(rules, innermost);
   }
-  return plan;
+  void merge(const PlanExtremes& other) {
+    bound = std::max(bound, other.bound);
+    tolerance = std::min(tolerance, other.tolerance);
+  }
+};
+
+void planRegularPieces(const RegularPatches& regular, const Planning& planning,
+                       TessellationPlan& plan, tbb::combinable<PlanExtremes>& extremes) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, regular.size(), 256), [&](const auto& range) {
+    if (planning.options.checkpoint) planning.options.checkpoint();
+    for (size_t p = range.begin(); p != range.end(); ++p) {
+      planExactPiece(plan.pieces[p], regular.bspline[p], regular.domains[p], PieceKind::kRegular,
+                     regular.levels[p], planning);
+    }
+    extremes.local().add(plan.pieces.data() + range.begin(), range.size());
+  });
+}
+
+void planRings(const RingSet& rings, const std::vector<RingLayout>& layouts,
+               const Planning& planning, TessellationPlan& plan,
+               tbb::combinable<PlanExtremes>& extremes) {
+  tbb::enumerable_thread_specific<std::vector<float>> scratch;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rings.size(), 8), [&](const auto& range) {
+    std::vector<float>& levels = scratch.local();
+    for (size_t r = range.begin(); r != range.end(); ++r) {
+      if (planning.options.checkpoint && r % 64 == 0) planning.options.checkpoint();
+      BezierPiece* first = plan.pieces.data() + layouts[r].first;
+      planRingPieces(rings, r, layouts[r], planning, levels, first, plan.evNormals[r]);
+      const size_t end = r + 1 < rings.size() ? layouts[r + 1].first : plan.pieces.size();
+      extremes.local().add(first, end - layouts[r].first);
+    }
+  });
 }
 
 }  // namespace
@@ -184,39 +312,41 @@ int tessellationLevel(const Vec3* b, double epsilon, double& achievedBound) {
 }
 
 TessellationPlan planTessellation(const PatchSet& patches, const TessellationOptions& options) {
-  validateTessellationOptions(options);
-  ToleranceModel tolerance(options, patches);
   TessellationPlan plan;
-  plan.pieces.resize(patches.regular.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, patches.regular.size(), 256), [&](const auto& range) {
-    if (options.checkpoint) options.checkpoint();
-    for (size_t p = range.begin(); p != range.end(); ++p) {
-      BezierPiece& piece = plan.pieces[p];
-      piece = exactPiece(patches.regular.bspline[p], patches.regular.domains[p], PieceKind::kRegular,
-                         patches.regular.levels[p]);
-      assignLevel(piece, options, tolerance.forPoints(piece.bezier.data(), 16));
-    }
-  });
-  std::vector<RingPlan> ringPlans(patches.rings.size());
-  tbb::parallel_for(size_t(0), patches.rings.size(), [&](size_t r) {
-    if (options.checkpoint && r % 64 == 0) options.checkpoint();
-    ringPlans[r] = planRing(patches, r, options, tolerance);
-  });
-  long depthSum = 0;
-  for (RingPlan& ring : ringPlans) {
-    plan.pieces.insert(plan.pieces.end(), ring.pieces.begin(), ring.pieces.end());
-    plan.evNormals.push_back(ring.evNormal);
-    depthSum += ring.depth;
-    plan.maxDepth = std::max(plan.maxDepth, ring.depth);
-  }
-  plan.rings = static_cast<int>(ringPlans.size());
-  plan.averageDepth = plan.rings ? double(depthSum) / plan.rings : 0.0;
-  plan.tolerance = plan.pieces.empty() ? tolerance.forPoints(nullptr, 0) : INFINITY;
-  for (const BezierPiece& piece : plan.pieces) {
-    plan.guaranteedBound = std::max(plan.guaranteedBound, double(piece.approximationBound) + piece.tessellationBound);
-    plan.tolerance = std::min(plan.tolerance, double(piece.tolerance));
-  }
+  planTessellation(patches, options, plan);
   return plan;
+}
+
+void planTessellation(const PatchSet& patches, const TessellationOptions& options,
+                      TessellationPlan& plan) {
+  validateTessellationOptions(options);
+  const ToleranceModel tolerance(options, patches);
+  const Planning planning{options, tolerance, options.uniformLevel == 0 || options.uniformBound};
+  const RingSet& rings = patches.rings;
+  std::vector<RingLayout> layouts(rings.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rings.size(), 16), [&](const auto& range) {
+    for (size_t r = range.begin(); r != range.end(); ++r)
+      layouts[r] = layoutRing(rings, r, planning);
+  });
+  plan.pieces.resize(
+      placeRings(rings, patches.regular.size(), layouts));  // same size: nothing touched
+  plan.evNormals.resize(rings.size());
+  tbb::combinable<PlanExtremes> extremes;
+  planRegularPieces(patches.regular, planning, plan, extremes);
+  planRings(rings, layouts, planning, plan, extremes);
+
+  long depthSum = 0;
+  plan.maxDepth = 0;
+  for (const RingLayout& layout : layouts) {
+    depthSum += layout.depth;
+    plan.maxDepth = std::max(plan.maxDepth, layout.depth);
+  }
+  plan.rings = static_cast<int>(rings.size());
+  plan.averageDepth = plan.rings ? double(depthSum) / plan.rings : 0.0;
+  PlanExtremes all;
+  extremes.combine_each([&](const PlanExtremes& e) { all.merge(e); });
+  plan.guaranteedBound = planning.proveBound ? all.bound : kBoundNotComputed;
+  plan.tolerance = plan.pieces.empty() ? tolerance.forPoints(nullptr, 0) : all.tolerance;
 }
 
 }  // namespace tessera

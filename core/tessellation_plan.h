@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "core/patch_set.h"
@@ -13,18 +14,21 @@
 
 namespace tessera {
 
+// A bound a uniform-level plan made with TessellationOptions::uniformBound = false did not prove.
+inline constexpr double kBoundNotComputed = std::numeric_limits<double>::quiet_NaN();
+
 enum class PieceKind : uint8_t { kRegular, kFas, kInnermost };
 
 struct BezierPiece {
   std::array<Vec3, 16> bezier;  // row-major, s along columns
   PatchDomain domain;
   PieceKind kind = PieceKind::kRegular;
-  uint8_t depth = 0;              // refinement level below the base face
-  int level = 1;                  // tessellation level N (an N×N grid)
-  float approximationBound = 0;   // distance to the limit surface (0: exact piece)
-  float tessellationBound = 0;    // FMM86 bound of the N×N triangulation
-  float tolerance = 0;            // ε this piece was planned for (object space)
-  int ring = -1;                  // innermost pieces: their ring (its EV is the (0,0) corner)
+  uint8_t depth = 0;             // refinement level below the base face
+  int level = 1;                 // tessellation level N (an N×N grid)
+  float approximationBound = 0;  // distance to the limit surface (0: exact piece)
+  float tessellationBound = 0;   // FMM86 bound of the N×N triangulation
+  float tolerance = 0;           // ε this piece was planned for (object space)
+  int ring = -1;                 // innermost pieces: their ring (its EV is the (0,0) corner)
 };
 
 struct TessellationPlan {
@@ -38,6 +42,14 @@ struct TessellationPlan {
 };
 
 TessellationPlan planTessellation(const PatchSet& patches, const TessellationOptions& options);
+
+// The same plan written into `plan`, reusing its storage: an application that re-plans every
+// frame (the interactive use the paper targets) then allocates, zero-fills and page-faults
+// nothing once the piece count settles. Ring pieces are planned in parallel straight into their
+// final slots (piece counts per ring are known before any FAS). If options.checkpoint throws,
+// `plan` is left half-written.
+void planTessellation(const PatchSet& patches, const TessellationOptions& options,
+                      TessellationPlan& plan);
 
 // FMM86 on a bicubic Bézier: the smallest N with (M_uu + 2 M_uv + M_vv) / (8 N²) ≤ ε, and the
 // bound that N achieves.
