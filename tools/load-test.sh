@@ -163,14 +163,18 @@ bench() { "$cli" --server "$address" bench "$@"; }
 # 1. The sweep, one bench run per level so that the server's memory is read after each.
 log "sweep: levels $levels, $requests requests each (a fresh server on SQLite)"
 start_server sweep --max-queued-jobs 64
-echo "before $(memory_kib "$server_pid" VmRSS)" >"$work/sweep-memory.txt"
+# VmRSS, and its anonymous part (heap: caches and per-call buffers; the rest is file-backed,
+# mostly shared libraries).
+{ echo "before $(memory_kib "$server_pid" VmRSS)"
+  echo "anon-before $(memory_kib "$server_pid" RssAnon)"; } >"$work/sweep-memory.txt"
 IFS=, read -r -a level_list <<<"$levels"
 for c in "${level_list[@]}"; do
   log "  concurrency $c"
   measure_quietly "level-$c" bench --mix "$mix" --mesh meshes/bigguy "${small_request[@]}" \
     --concurrency "$c" --requests "$requests" --duration "$level_limit" --warmup 50 \
     --timeout 60s --json "$work/level-$c.json"
-  echo "$c $(memory_kib "$server_pid" VmRSS)" >>"$work/sweep-memory.txt"
+  { echo "$c $(memory_kib "$server_pid" VmRSS)"
+    echo "anon-$c $(memory_kib "$server_pid" RssAnon)"; } >>"$work/sweep-memory.txt"
 done
 echo "peak $(memory_kib "$server_pid" VmHWM)" >>"$work/sweep-memory.txt"
 stop_server
