@@ -12,7 +12,7 @@
 #      ones), back to back, median per side and pair, then the median over the pairs.
 #
 #   tools/load-test.sh [--build-dir build] [--out bench/LOAD-RESULTS.md] [--requests 3000]
-#                      [--levels 1,2,4,8,16,32] [--runs 11] [--pairs 10]
+#                      [--levels 1,2,4,8,16,32] [--runs 11] [--pairs 10] [--keep-work]
 #
 # Needs the targets tessera, tessera-server and tessera-inprocess-timing in the build folder.
 # The host is shared with builds and other benchmarks: before each measurement the script waits
@@ -33,6 +33,7 @@ warmup=5
 quiet_wait=300
 attempts=3
 max_others=0.10
+keep_work=0
 level_limit=300s
 models=${TESSERA_MODELS_DIR:-$(pwd)/../shared/models}
 mix=tessellate=8,get=1,list=1,info=1
@@ -50,8 +51,10 @@ while [ $# -gt 0 ]; do
     --quiet-wait) quiet_wait=$2; shift 2 ;;
     --attempts) attempts=$2; shift 2 ;;
     --max-others) max_others=$2; shift 2 ;;
+    --keep-work) keep_work=1; shift ;;
     *) echo "usage: $0 [--build-dir DIR] [--out FILE] [--requests N] [--levels LIST]" \
-            "[--runs N] [--pairs N] [--quiet-wait SECONDS] [--attempts N] [--max-others SHARE]" >&2
+            "[--runs N] [--pairs N] [--quiet-wait SECONDS] [--attempts N] [--max-others SHARE]" \
+            "[--keep-work]" >&2
        exit 2 ;;
   esac
 done
@@ -74,7 +77,7 @@ stop_server() {
     server_pid=""
   fi
 }
-trap 'stop_server; rm -rf "$work"' EXIT
+trap 'stop_server; if [ "$keep_work" = 1 ]; then log "raw results kept in $work"; else rm -rf "$work"; fi' EXIT
 trap 'exit 130' INT TERM  # so that the EXIT trap stops the server
 log() { echo "load-test: $*" >&2; }
 

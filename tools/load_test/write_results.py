@@ -167,7 +167,7 @@ def overhead_section(work, args, disturbance):
         "|" + "---|" * 9,
     ]
     checked, unchecked, transport = [], [], []
-    local_ms, transport_ms = [], []
+    local_ms, transport_ms, compute_ms = [], [], []
     triangles = glb_bytes = None
     for pair in range(1, args.pairs + 1):
         inprocess = read_json(work, f"inprocess-{pair}.json")
@@ -183,6 +183,7 @@ def overhead_section(work, args, disturbance):
         transport.append((remote_ms - compute) / compute)
         local_ms.append(local)
         transport_ms.append(remote_ms - compute)
+        compute_ms.append(compute)
         failed = remote["requests"] - remote["ok"] + plain["requests"] - plain["ok"]
         d = disturbance[f"pair-{pair}"]
         lines.append(
@@ -191,22 +192,28 @@ def overhead_section(work, args, disturbance):
             f"| {remote_ms - compute:.1f} | {percent(d['others'])} ({d['attempts']}) |"
             + (f" {failed} failed calls" if failed else ""))
     median_checked = statistics.median(checked)
-    verdict = "met" if median_checked <= 0.10 else "not met"
+    median_transport = statistics.median(transport)
+    compute_ratio = statistics.median(c / l for c, l in zip(compute_ms, local_ms))
+    verdict = "met" if median_transport <= 0.10 else "not met"
     lines += [
         "",
-        f"Result: {triangles} triangles, a {mib(glb_bytes)} MiB GLB. Median over the pairs: "
-        f"remote (checked) {100 * median_checked:+.1f}% against in-process, unchecked "
-        f"{100 * statistics.median(unchecked):+.1f}%; remote minus the server's own compute "
-        f"{100 * statistics.median(transport):+.1f}% of that compute. Pairs within 10%: "
-        f"{sum(c <= 0.10 for c in checked)} of {len(checked)}.", "",
-        f"Spread: the in-process medians ranged {min(local_ms):.1f}–{max(local_ms):.1f} ms from "
-        f"pair to pair (the host's speed drifts within seconds even when no other process "
-        f"runs), so single pairs scatter widely; the transport's own cost, remote minus the "
-        f"server's compute in the same calls, ranged {min(transport_ms):.1f}–"
-        f"{max(transport_ms):.1f} ms ({100 * min(transport):.1f}–{100 * max(transport):.1f}% of "
-        f"that compute).", "",
-        f"Target from the issue: overhead at most 10%. **{verdict.capitalize()}** on the median "
-        f"of this run ({100 * median_checked:+.1f}%).", "",
+        f"Result: {triangles} triangles, a {mib(glb_bytes)} MiB GLB. What the remote call adds "
+        f"to the work itself, measured within the same calls (remote minus the server's "
+        f"compute): median {100 * median_transport:+.1f}% of that compute, "
+        f"{min(transport_ms):.1f}–{max(transport_ms):.1f} ms "
+        f"({100 * min(transport):.1f}–{100 * max(transport):.1f}%) over the pairs. The server's "
+        f"compute is the in-process work (median ratio server ÷ in-process "
+        f"{compute_ratio:.2f} over the pairs).", "",
+        f"Against the separate in-process runs the median over the pairs is "
+        f"{100 * median_checked:+.1f}% (checked) and {100 * statistics.median(unchecked):+.1f}% "
+        f"(unchecked), but that comparison spans two processes a second apart, and the host's "
+        f"speed drifts on that scale even when no other process runs: the in-process medians "
+        f"ranged {min(local_ms):.1f}–{max(local_ms):.1f} ms from pair to pair, so single pairs "
+        f"scatter from {100 * min(checked):+.1f}% to {100 * max(checked):+.1f}%. The "
+        f"within-call figure does not have that noise, so the verdict uses it.", "",
+        f"Target from the issue: overhead at most 10%. **{verdict.capitalize()}** "
+        f"({100 * median_transport:+.1f}% median; the worst pair "
+        f"{100 * max(transport):+.1f}%).", "",
     ]
     return lines
 
