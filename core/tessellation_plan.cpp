@@ -12,6 +12,7 @@
 #include "core/fas_rules.h"
 #include "core/innermost_patch.h"
 #include "core/ring_patches.h"
+#include "core/ring_refinement.h"
 
 namespace tessera {
 
@@ -206,27 +207,10 @@ void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
   const Vec3 center = rings.centers[r];
   const PatchDomain* sectorDomains = rings.sectorDomains.data() + rings.sectorOffsets[r];
   const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
-  const size_t refinedFloats = size_t(shape.refinedPointCount()) * 3;
-  levels.resize(std::max(levels.size(), refinedFloats * layout.depth));
-  const float* innermost = rings.ringPoints(r);
-  for (int level = 1; level <= layout.depth; ++level) {
-    float* refined = levels.data() + (level - 1) * refinedFloats;
-    refineRingStep<3>(rules, innermost, refined);
-    innermost = refined;
-    const double size = std::ldexp(1.0, -level);
-    for (int i = 0; i < shape.sectors; ++i) {
-      if (!owned[i]) continue;
-      for (int k = 0; k < kPatchesPerSector; ++k) {
-        ControlNet net;
-        sectorPatchNet(rules, refined, i, k, net.data());
-        for (Vec3& p : net) p += center;
-        int x0, y0;
-        sectorPatchOrigin(k, x0, y0);
-        planExactPiece(*out++, net, sectorDomains[i].restrict(x0 * size, y0 * size, size),
-                       PieceKind::kFas, rings.levels[r] + level, planning);
-      }
-    }
-  }
+  const float* innermost = forEachRingPatch(
+      rings, r, layout.depth, levels, [&](const ControlNet& net, PatchDomain domain, int level) {
+        planExactPiece(*out++, net, domain, PieceKind::kFas, rings.levels[r] + level, planning);
+      });
   auto fetch = [innermost](int index) {
     return Vec3(innermost[3 * index], innermost[3 * index + 1], innermost[3 * index + 2]);
   };
