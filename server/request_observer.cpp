@@ -40,7 +40,9 @@ class RequestObserver final : public grpc::experimental::Interceptor {
   RequestObserver(grpc::experimental::ServerRpcInfo* info, ServerMetrics& metrics)
       : info_(info), metrics_(metrics), start_(std::chrono::steady_clock::now()) {}
 
-  ~RequestObserver() override { finish(); }
+  ~RequestObserver() override {
+    if (!finished_) finish();
+  }
 
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_INITIAL_METADATA)) {
@@ -54,6 +56,9 @@ class RequestObserver final : public grpc::experimental::Interceptor {
       grpc::Status status = methods->GetSendStatus();
       code_ = status.error_code();
       message_ = status.error_message();
+      // Counted before the status leaves, so that a client that has its answer can already
+      // see it in the metrics (the interceptor itself may live on a little after the call).
+      finish();
     }
     methods->Proceed();
   }
@@ -71,9 +76,10 @@ class RequestObserver final : public grpc::experimental::Interceptor {
     return requestId_;
   }
 
-  // The call is over when the interceptor is destroyed; a call whose status was never sent
-  // (the client went away first) is counted as CANCELLED.
+  // Counts, times and logs the call once: when its status is sent, or, for a call whose status
+  // was never sent (the client went away first), as CANCELLED when the interceptor is destroyed.
   void finish() {
+    finished_ = true;
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     std::string method = info_->method() ? info_->method() : "unknown";
     grpc::StatusCode code = code_.value_or(grpc::StatusCode::CANCELLED);
@@ -97,6 +103,7 @@ class RequestObserver final : public grpc::experimental::Interceptor {
   std::string peer_ = "unknown";
   std::optional<grpc::StatusCode> code_;
   std::string message_;
+  bool finished_ = false;
 };
 
 }  // namespace
