@@ -64,9 +64,13 @@ void appendIndices(std::vector<unsigned char>& buffer, const TriangleMesh& mesh)
     appendBytes(buffer, mesh.indices);
     return;
   }
-  std::vector<uint16_t> shortIndices(mesh.indices.begin(), mesh.indices.end());
-  appendBytes(buffer, shortIndices);
-  buffer.resize((buffer.size() + 3) & ~size_t(3));  // GLB chunks end on a 4-byte boundary
+  const size_t offset = buffer.size();
+  // GLB chunks end on a 4-byte boundary; the padding is zeros.
+  buffer.resize((offset + mesh.indices.size() * sizeof(uint16_t) + 3) & ~size_t(3));
+  for (size_t i = 0; i < mesh.indices.size(); ++i) {
+    const uint16_t index = static_cast<uint16_t>(mesh.indices[i]);
+    std::memcpy(buffer.data() + offset + i * sizeof(uint16_t), &index, sizeof index);
+  }
 }
 
 int addIndexAccessor(tinygltf::Model& model, size_t offset, const TriangleMesh& mesh) {

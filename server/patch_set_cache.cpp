@@ -10,8 +10,7 @@ size_t bytesOf(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
 
-}  // namespace
-
+// What a patch set holds, as charged against the budget.
 size_t bytesOf(const PatchSet& set) {
   const RegularPatches& g = set.regular;
   const RingSet& r = set.rings;
@@ -20,6 +19,8 @@ size_t bytesOf(const PatchSet& set) {
          bytesOf(r.points) + bytesOf(r.centers) + bytesOf(r.spokeOffsets) + bytesOf(r.sharpSpokes) +
          bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned);
 }
+
+}  // namespace
 
 std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, const std::string& meshId,
                                                    const std::string& meshSha256) {

@@ -26,7 +26,4 @@ class PatchSetCache {
   LruCache<std::string, PatchSet> cache_;
 };
 
-// What a patch set holds, as charged against the budget.
-size_t bytesOf(const PatchSet& set);
-
 }  // namespace tessera::server
