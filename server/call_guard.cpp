@@ -18,7 +18,10 @@ bool deadlinePassed(const grpc::ServerContext& context) {
 
 grpc::Status cancelledStatus(const grpc::ServerContext& context) {
   if (deadlinePassed(context)) {
-    return {grpc::StatusCode::DEADLINE_EXCEEDED, "the call's deadline passed before it finished"};
+    // Starts as gRPC's own client-side message does, so that a client sees the same words
+    // whichever side noticed the deadline first.
+    return {grpc::StatusCode::DEADLINE_EXCEEDED,
+            "Deadline Exceeded: the call's deadline passed before the server finished it"};
   }
   return {grpc::StatusCode::CANCELLED, "the call was cancelled"};
 }
