@@ -3,10 +3,9 @@
 // next to the memory write floor (write_floor.h). Also registers, from tess_figures.cpp, Fig. 6
 // (depth estimation), Fig. 5 (η sweep) and the tightness measurement.
 //
-//   BM_TessUniform_Tessera/<model>/<p>       planTessellation (uniform p: rings refined by FAS to
-//       ⌈log₂ p⌉ − their Far level, Bézier conversion, levels max(p/2^d, 1), no bounds proved)
-//       into a plan kept from frame to frame, gridOffsets + evaluatePieceGrids (AVX2) into a
-//       buffer allocated and touched in setup.
+//   BM_TessUniform_Tessera/<model>/<p>       planUniformGrid (rings refined by FAS to ⌈log₂ p⌉ −
+//       their Far level, levels max(p/2^d, 1)) into a grid kept from frame to frame, then
+//       evaluateUniformGrid (AVX2) into a buffer allocated and touched in setup.
 //   BM_TessUniform_OsdBfr/<model>/<p>        Bfr, surfaces and (u,v) prepared in setup (tess_osd.h)
 //   BM_TessUniform_OsdBfrPerFace/<model>/<p> Bfr doing all its per-face work in the timed region
 //   BM_TessUniform_OsdEval/<model>/<p>       Far::PatchTable (Gregory end caps) + OmpEvaluator
@@ -19,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <stdexcept>
 #include <memory>
 #include <string>
 
@@ -26,8 +26,8 @@
 #include "bench/tess_figures.h"
 #include "bench/tess_osd.h"
 #include "bench/write_floor.h"
-#include "core/grid_evaluation.h"
 #include "core/tessellation_plan.h"
+#include "core/uniform_grid.h"
 
 namespace tessera::bench {
 namespace {
@@ -46,9 +46,8 @@ double millisecondsSince(Clock::time_point start) {
 struct UniformCase : TessCase {
   const LoadedModel* model = nullptr;
   int level = 0;
-  // Tessera: the plan and offsets are kept from frame to frame, as a viewer would keep them
-  TessellationPlan plan;
-  std::vector<size_t> offsets;
+  // Tessera: the grid is kept from frame to frame, as a viewer would keep it
+  UniformGrid grid;
   size_t tessSamples = 0, pieces = 0;
   std::unique_ptr<OutputBuffer<Vec3>> tessOut;
   double tessError = -1;  // max distance of checked samples to the limit surface / diagonal
@@ -70,24 +69,25 @@ UniformCase& uniformCase(const std::string& name, int p) {
   });
 }
 
-// Table 2 times the tessellation alone, as the paper does: no distance bound is proved.
-TessellationOptions uniformOptions(int p) {
-  TessellationOptions options;
-  options.uniformLevel = p;
-  options.uniformBound = false;
-  return options;
-}
-
+// The samples are checked against the limit surface through the domains of planTessellation's
+// uniform pieces, which must be the grid's pieces in the same order.
 void prepareTessera(UniformCase& c) {
   if (c.tessOut) return;
-  planTessellation(c.model->patches, uniformOptions(c.level), c.plan);
-  gridOffsets(c.plan.pieces, c.offsets);
-  c.tessSamples = c.offsets.back();
-  c.pieces = c.plan.pieces.size();
+  const PatchSet& patches = c.model->patches;
+  planUniformGrid(patches, c.level, c.grid);
+  c.tessSamples = c.grid.samples();
+  c.pieces = c.grid.pieces.size();
   c.tessOut = std::make_unique<OutputBuffer<Vec3>>(c.tessSamples);
-  evaluatePieceGrids(c.plan.pieces, c.offsets, c.tessOut->data());
-  c.tessError =
-      sampledLimitDeviation(*c.model, c.plan, c.offsets, c.tessOut->data(), c.tessInnermostError);
+  evaluateUniformGrid(patches, c.grid, c.tessOut->data());
+  TessellationOptions options;
+  options.uniformLevel = c.level;
+  const TessellationPlan plan = planTessellation(patches, options);
+  bool samePieces = plan.pieces.size() == c.pieces;
+  for (size_t q = 0; samePieces && q < c.pieces; ++q)
+    samePieces = plan.pieces[q].level == c.grid.pieces[q].level;
+  if (!samePieces) throw std::runtime_error("the grid's pieces are not the plan's");
+  c.tessError = sampledLimitDeviation(*c.model, plan, c.grid.offsets, c.tessOut->data(),
+                                      c.tessInnermostError);
 }
 
 void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
@@ -100,22 +100,20 @@ void BM_TessUniform_Tessera(benchmark::State& state, std::string name, int p) {
     state.SkipWithError(e.what());
     return;
   }
-  const TessellationOptions options = uniformOptions(p);
   double planMs = 0, evalMs = 0;
   bool sizesMatch = true;
   double seconds = timeWallIterations(state, [&] {
     auto start = Clock::now();
-    planTessellation(c->model->patches, options, c->plan);
-    gridOffsets(c->plan.pieces, c->offsets);
+    planUniformGrid(c->model->patches, p, c->grid);
     auto planned = Clock::now();
-    sizesMatch = sizesMatch && c->offsets.back() == c->tessSamples;
-    if (sizesMatch) evaluatePieceGrids(c->plan.pieces, c->offsets, c->tessOut->data());
+    sizesMatch = sizesMatch && c->grid.samples() == c->tessSamples;
+    if (sizesMatch) evaluateUniformGrid(c->model->patches, c->grid, c->tessOut->data());
     planMs += std::chrono::duration<double, std::milli>(planned - start).count();
     evalMs += millisecondsSince(planned);
   });
   benchmark::DoNotOptimize(c->tessOut->data());
   if (!sizesMatch) {
-    state.SkipWithError("the plan's sample count changed between setup and timing");
+    state.SkipWithError("the grid's sample count changed between setup and timing");
     return;
   }
   reportSampleCounters(state, c->tessSamples, seconds);

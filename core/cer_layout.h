@@ -66,7 +66,9 @@ TESSERA_HD bool canonicalize(const RingShape& shape, int& sector, int& x, int& y
   }
   if (x == 0 && y == 0) return true;
   if (shape.open) return sector >= 0 && (sector < shape.sectors || (sector == shape.sectors && y == 0));
-  sector = ((sector % shape.sectors) + shape.sectors) % shape.sectors;
+  // The walk above moves at most four sectors: wrapping by steps avoids two divisions per point.
+  while (sector < 0) sector += shape.sectors;
+  while (sector >= shape.sectors) sector -= shape.sectors;
   return true;
 }
 

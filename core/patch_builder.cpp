@@ -21,16 +21,6 @@ namespace tessera {
 
 using Far::Index;
 
-PatchDomain PatchDomain::restrict(double s0, double t0, double size) const {
-  PatchDomain d = *this;
-  map(s0, t0, d.origin[0], d.origin[1]);
-  for (int k = 0; k < 2; ++k) {
-    d.axisS[k] = axisS[k] * size;
-    d.axisT[k] = axisT[k] * size;
-  }
-  return d;
-}
-
 namespace {
 
 // Smooth EVs need two levels to be isolated; semi-sharp features need their sharpness to decay.

@@ -28,8 +28,17 @@ struct PatchDomain {
     u = origin[0] + s * axisS[0] + t * axisT[0];
     v = origin[1] + s * axisS[1] + t * axisT[1];
   }
-  // The sub-domain [s0, s0+size] × [t0, t0+size] of this one.
-  PatchDomain restrict(double s0, double t0, double size) const;
+  // The sub-domain [s0, s0+size] × [t0, t0+size] of this one. Inline, so that walks whose
+  // consumers ignore domains (the uniform grid) compile it away.
+  PatchDomain restrict(double s0, double t0, double size) const {
+    PatchDomain d = *this;
+    map(s0, t0, d.origin[0], d.origin[1]);
+    for (int k = 0; k < 2; ++k) {
+      d.axisS[k] = axisS[k] * size;
+      d.axisT[k] = axisT[k] * size;
+    }
+    return d;
+  }
 };
 
 using ControlNet = std::array<Vec3, 16>;

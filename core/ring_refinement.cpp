@@ -1,16 +1,35 @@
 #include "core/ring_refinement.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "core/innermost_patch.h"
+
 namespace tessera {
+
+int ringPieceCount(const RingSet& rings, size_t r, int depth) {
+  const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
+  const int sectors = int(
+      std::count_if(owned, owned + rings.shapes[r].sectors, [](uint8_t o) { return o != 0; }));
+  return sectors * (kPatchesPerSector * depth + 1);
+}
+
+void innermostNet(const RingRules& rules, int sector, const float* innermost, Vec3 center,
+                  Vec3 out[16]) {
+  auto fetch = [innermost](int index) {
+    return Vec3(innermost[3 * index], innermost[3 * index + 1], innermost[3 * index + 2]);
+  };
+  innermostBezier<Vec3>(rules, sector, fetch, out);
+  for (int k = 0; k < 16; ++k) out[k] += center;
+}
 
 void emitRingPieces(const RingSet& rings, size_t r, int depth, RingPieces& pieces) {
   const cer::RingShape& shape = rings.shapes[r];
   const PatchDomain* sectorDomains = rings.sectorDomains.data() + rings.sectorOffsets[r];
   const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
-  std::vector<float> levels;
+  RingWalkScratch scratch;
   const float* innermost =
-      forEachRingPatch(rings, r, depth, levels, [&](const ControlNet& net, PatchDomain domain, int level) {
+      forEachRingPatch(rings, r, depth, scratch, [&](const ControlNet& net, PatchDomain domain, int level) {
         pieces.bspline.push_back(net);
         pieces.domains.push_back(domain);
         pieces.depths.push_back(static_cast<uint8_t>(level));

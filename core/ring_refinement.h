@@ -20,13 +20,20 @@ struct RingPieces {
   std::vector<PatchDomain> innermostDomains;  // their inner quads [0, 2^-depth]²
 };
 
-// Refines ring r level by level into `levels` (the caller's scratch, grown as needed) and calls
-// visit(net, domain, level) for the kPatchesPerSector B-spline patches of every owned sector at
-// every FAS level 1..depth, nets in absolute positions. Returns the innermost ring, relative to
-// the ring's centre (the stored ring itself at depth 0). One walk for every consumer, so the
-// planner and the tests' piece lists cannot drift apart.
+// A walk's room, kept by the caller (one per thread) and grown as needed: the refined rings of
+// every level, and where each patch's net points come from (the same at every level).
+struct RingWalkScratch {
+  std::vector<float> levels;
+  std::vector<NetSource> sources;
+};
+
+// Refines ring r level by level into the scratch and calls visit(net, domain, level) for the
+// kPatchesPerSector B-spline patches of every owned sector at every FAS level 1..depth, nets in
+// absolute positions. Returns the innermost ring, relative to the ring's centre (the stored ring
+// itself at depth 0). One walk for every consumer, so the planner, the uniform grid and the
+// tests' piece lists cannot drift apart.
 template <typename Visit>
-const float* forEachRingPatch(const RingSet& rings, size_t r, int depth, std::vector<float>& levels,
+const float* forEachRingPatch(const RingSet& rings, size_t r, int depth, RingWalkScratch& scratch,
                               Visit&& visit) {
   const RingRules rules = rings.rules(r);
   const cer::RingShape& shape = rules.shape;
@@ -34,8 +41,16 @@ const float* forEachRingPatch(const RingSet& rings, size_t r, int depth, std::ve
   const PatchDomain* sectorDomains = rings.sectorDomains.data() + rings.sectorOffsets[r];
   const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
   const size_t refinedFloats = size_t(shape.refinedPointCount()) * 3;
+  std::vector<float>& levels = scratch.levels;
   if (levels.size() < refinedFloats * depth) levels.resize(refinedFloats * depth);
   const float* innermost = rings.ringPoints(r);
+  if (depth == 0) return innermost;
+  const size_t patches = size_t(shape.sectors) * kPatchesPerSector;
+  if (scratch.sources.size() < 16 * patches) scratch.sources.resize(16 * patches);
+  for (int i = 0; i < shape.sectors; ++i) {
+    for (int k = 0; owned[i] && k < kPatchesPerSector; ++k)
+      sectorNetSources(rules, i, k, scratch.sources.data() + 16 * (kPatchesPerSector * i + k));
+  }
   for (int level = 1; level <= depth; ++level) {
     float* refined = levels.data() + (level - 1) * refinedFloats;
     refineRingStep<3>(rules, innermost, refined);
@@ -45,7 +60,7 @@ const float* forEachRingPatch(const RingSet& rings, size_t r, int depth, std::ve
       if (!owned[i]) continue;
       for (int k = 0; k < kPatchesPerSector; ++k) {
         ControlNet net;
-        sectorPatchNet(rules, refined, i, k, net.data());
+        gatherNet(refined, scratch.sources.data() + 16 * (kPatchesPerSector * i + k), net.data());
         for (Vec3& p : net) p += center;
         int x0, y0;
         sectorPatchOrigin(k, x0, y0);
@@ -55,6 +70,15 @@ const float* forEachRingPatch(const RingSet& rings, size_t r, int depth, std::ve
   }
   return innermost;
 }
+
+// The pieces ring r yields at FAS depth `depth`: kPatchesPerSector per owned sector at every
+// level, then one innermost piece per owned sector.
+int ringPieceCount(const RingSet& rings, size_t r, int depth);
+
+// The innermost Bézier net of `sector` (ACC-1, innermost_patch.h) in absolute positions, from the
+// innermost ring forEachRingPatch returned (relative to `center`).
+void innermostNet(const RingRules& rules, int sector, const float* innermost, Vec3 center,
+                  Vec3 out[16]);
 
 // Refines ring r to `depth` (>= 0) and appends its pieces to `pieces`.
 void emitRingPieces(const RingSet& rings, size_t r, int depth, RingPieces& pieces);

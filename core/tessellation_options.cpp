@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/uniform_levels.h"
 
 namespace tessera {
 
@@ -13,8 +14,9 @@ bool finite(const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) &&
 
 void validateTessellationOptions(const TessellationOptions& o) {
   if (o.uniformLevel != 0) {
-    if (o.uniformLevel < 1 || o.uniformLevel > 4096) {
-      throwInvalid("level must be between 1 and 4096, got " + std::to_string(o.uniformLevel));
+    if (o.uniformLevel < 1 || o.uniformLevel > kMaxUniformLevel) {
+      throwInvalid("level must be between 1 and " + std::to_string(kMaxUniformLevel) + ", got " +
+                   std::to_string(o.uniformLevel));
     }
     return;
   }

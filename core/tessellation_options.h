@@ -23,11 +23,6 @@ struct TessellationOptions {
   double pixelAccuracy = 0.5;     // in pixels, with a camera
   double eta = 0.5;               // share of ε for the Bézier approximation (paper §5.1)
   int uniformLevel = 0;           // > 0: the paper's Table 2 setup instead of a tolerance
-  // With a uniform level: whether the plan also proves how far it stays from the limit surface
-  // (a depth bound per ring, FMM86 per piece). Off, TessellationPlan::guaranteedBound and the
-  // pieces' bounds are kBoundNotComputed and planning is cheaper; the paper's Table 2 times the
-  // tessellation alone. Tolerance planning always proves its bound.
-  bool uniformBound = true;
   int64_t maxTriangles = 20'000'000;
   bool recordParameters = false;  // keep each triangle's piece coordinates (tests, tools)
   // Called every few hundred rings or pieces during long work; a caller that wants to stop

@@ -13,6 +13,7 @@
 #include "core/innermost_patch.h"
 #include "core/ring_patches.h"
 #include "core/ring_refinement.h"
+#include "core/uniform_levels.h"
 
 namespace tessera {
 
@@ -67,10 +68,6 @@ class ToleranceModel {
   double pixelScale_ = 0, near_ = 0;
 };
 
-int uniformLevel(int p, int depth) {
-  return std::max(p >> std::min(depth, 30), 1);
-}
-
 // M_uu + 2 M_uv + M_vv of a bicubic Bézier from its second differences (MATH.md §4).
 double curvatureBound(const Vec3* b) {
   auto at = [b](int row, int col) { return Vec3d(b[4 * row + col]); };
@@ -88,25 +85,17 @@ double curvatureBound(const Vec3* b) {
   return 6 * uu + 2 * 9 * uv + 6 * vv;
 }
 
-// What planning a piece needs besides the piece: the request, its tolerance model, and whether
-// a uniform-level plan proves its bounds.
+// What planning a piece needs besides the piece: the request and its tolerance model.
 struct Planning {
   const TessellationOptions& options;
   const ToleranceModel& tolerance;
-  bool proveBound;
 };
 
 void assignLevel(BezierPiece& piece, const Planning& planning, double epsilon) {
   const TessellationOptions& options = planning.options;
-  if (options.uniformLevel > 0 && !planning.proveBound) {
-    piece.level = uniformLevel(options.uniformLevel, piece.depth);
-    piece.tessellationBound = float(kBoundNotComputed);
-    piece.tolerance = float(epsilon);  // its approximation bound is not known
-    return;
-  }
   piece.tolerance = float(epsilon + piece.approximationBound);
   if (options.uniformLevel > 0) {
-    piece.level = uniformLevel(options.uniformLevel, piece.depth);
+    piece.level = uniformPieceLevel(options.uniformLevel, piece.depth);
     piece.tessellationBound =
         float(curvatureBound(piece.bezier.data()) / (8.0 * piece.level * piece.level));
     return;
@@ -156,7 +145,7 @@ Vec3d smoothLimitNormal(const RingRules& rules, const float* ring) {
 // What is known of a ring before it is refined: enough to give its pieces their slots.
 struct RingLayout {
   int depth = 0;
-  double bound = 0;  // of its innermost pieces (kBoundNotComputed when not proved)
+  double bound = 0;  // of its innermost pieces
   size_t first = 0;  // its first piece in the plan
 };
 
@@ -166,10 +155,8 @@ RingLayout layoutRing(const RingSet& rings, size_t r, const Planning& planning) 
   const float* ring = rings.ringPoints(r);
   RingLayout layout;
   if (options.uniformLevel > 0) {
-    int target = int(std::ceil(std::log2(double(options.uniformLevel))));
-    layout.depth = std::max(0, target - rings.levels[r]);
-    layout.bound =
-        planning.proveBound ? boundAtDepth(rules, ring, layout.depth) : kBoundNotComputed;
+    layout.depth = uniformRingDepth(options.uniformLevel, rings.levels[r]);
+    layout.bound = boundAtDepth(rules, ring, layout.depth);
     return layout;
   }
   const double epsilon =
@@ -180,27 +167,20 @@ RingLayout layoutRing(const RingSet& rings, size_t r, const Planning& planning) 
   return layout;
 }
 
-int ownedSectors(const RingSet& rings, size_t r) {
-  const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
-  return int(
-      std::count_if(owned, owned + rings.shapes[r].sectors, [](uint8_t o) { return o != 0; }));
-}
-
-// Gives every ring its range of slots after the regular pieces: a FAS level uncovers
-// kPatchesPerSector patches per owned sector, and each owned sector ends in one innermost piece.
+// Gives every ring its range of slots after the regular pieces.
 size_t placeRings(const RingSet& rings, size_t regularPieces, std::vector<RingLayout>& layouts) {
   size_t next = regularPieces;
   for (size_t r = 0; r < rings.size(); ++r) {
     layouts[r].first = next;
-    next += size_t(ownedSectors(rings, r)) * (kPatchesPerSector * layouts[r].depth + 1);
+    next += size_t(ringPieceCount(rings, r, layouts[r].depth));
   }
   return next;
 }
 
 // The FAS patches of levels 1..depth, then the innermost Béziers, in the order emitRingPieces
-// gives them, written from out[0]. `levels` is the thread's scratch for the refined rings.
+// gives them, written from out[0]. `scratch` is the thread's room for the ring walk.
 void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
-                    const Planning& planning, std::vector<float>& levels, BezierPiece* out,
+                    const Planning& planning, RingWalkScratch& scratch, BezierPiece* out,
                     Vec3d& evNormal) {
   const RingRules rules = rings.rules(r);
   const cer::RingShape& shape = rules.shape;
@@ -208,27 +188,22 @@ void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
   const PatchDomain* sectorDomains = rings.sectorDomains.data() + rings.sectorOffsets[r];
   const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
   const float* innermost = forEachRingPatch(
-      rings, r, layout.depth, levels, [&](const ControlNet& net, PatchDomain domain, int level) {
+      rings, r, layout.depth, scratch, [&](const ControlNet& net, PatchDomain domain, int level) {
         planExactPiece(*out++, net, domain, PieceKind::kFas, rings.levels[r] + level, planning);
       });
-  auto fetch = [innermost](int index) {
-    return Vec3(innermost[3 * index], innermost[3 * index + 1], innermost[3 * index + 2]);
-  };
   const double size = std::ldexp(1.0, -layout.depth);
   for (int i = 0; i < shape.sectors; ++i) {
     if (!owned[i]) continue;
     BezierPiece& piece = *out++;
-    innermostBezier<Vec3>(rules, i, fetch, piece.bezier.data());
-    for (Vec3& b : piece.bezier) b += center;
+    innermostNet(rules, i, innermost, center, piece.bezier.data());
     piece.domain = sectorDomains[i].restrict(0, 0, size);
     piece.kind = PieceKind::kInnermost;
     piece.depth = static_cast<uint8_t>(rings.levels[r] + layout.depth);
     piece.approximationBound = float(layout.bound);
     piece.ring = static_cast<int>(r);
     double pieceEpsilon = planning.tolerance.forPoints(piece.bezier.data(), 16);
-    double epsilon = planning.proveBound ? std::max(pieceEpsilon - layout.bound,
-                                                    (1 - planning.options.eta) * pieceEpsilon)
-                                         : pieceEpsilon;
+    double epsilon =
+        std::max(pieceEpsilon - layout.bound, (1 - planning.options.eta) * pieceEpsilon);
     assignLevel(piece, planning, epsilon);
   }
   evNormal = Vec3d();
@@ -270,13 +245,13 @@ void planRegularPieces(const RegularPatches& regular, const Planning& planning,
 void planRings(const RingSet& rings, const std::vector<RingLayout>& layouts,
                const Planning& planning, TessellationPlan& plan,
                tbb::combinable<PlanExtremes>& extremes) {
-  tbb::enumerable_thread_specific<std::vector<float>> scratch;
+  tbb::enumerable_thread_specific<RingWalkScratch> scratch;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rings.size(), 8), [&](const auto& range) {
-    std::vector<float>& levels = scratch.local();
+    RingWalkScratch& walk = scratch.local();
     for (size_t r = range.begin(); r != range.end(); ++r) {
       if (planning.options.checkpoint && r % 64 == 0) planning.options.checkpoint();
       BezierPiece* first = plan.pieces.data() + layouts[r].first;
-      planRingPieces(rings, r, layouts[r], planning, levels, first, plan.evNormals[r]);
+      planRingPieces(rings, r, layouts[r], planning, walk, first, plan.evNormals[r]);
       const size_t end = r + 1 < rings.size() ? layouts[r + 1].first : plan.pieces.size();
       extremes.local().add(first, end - layouts[r].first);
     }
@@ -305,7 +280,7 @@ void planTessellation(const PatchSet& patches, const TessellationOptions& option
                       TessellationPlan& plan) {
   validateTessellationOptions(options);
   const ToleranceModel tolerance(options, patches);
-  const Planning planning{options, tolerance, options.uniformLevel == 0 || options.uniformBound};
+  const Planning planning{options, tolerance};
   const RingSet& rings = patches.rings;
   std::vector<RingLayout> layouts(rings.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rings.size(), 16), [&](const auto& range) {
@@ -329,7 +304,7 @@ void planTessellation(const PatchSet& patches, const TessellationOptions& option
   plan.averageDepth = plan.rings ? double(depthSum) / plan.rings : 0.0;
   PlanExtremes all;
   extremes.combine_each([&](const PlanExtremes& e) { all.merge(e); });
-  plan.guaranteedBound = planning.proveBound ? all.bound : kBoundNotComputed;
+  plan.guaranteedBound = all.bound;
   plan.tolerance = plan.pieces.empty() ? tolerance.forPoints(nullptr, 0) : all.tolerance;
 }
 

@@ -6,16 +6,12 @@
 
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "core/patch_set.h"
 #include "core/tessellation_options.h"
 
 namespace tessera {
-
-// A bound a uniform-level plan made with TessellationOptions::uniformBound = false did not prove.
-inline constexpr double kBoundNotComputed = std::numeric_limits<double>::quiet_NaN();
 
 enum class PieceKind : uint8_t { kRegular, kFas, kInnermost };
 

@@ -1,10 +1,9 @@
-// Planning into a reused plan, and uniform plans that skip their bounds: the pieces must be
-// exactly those of a fresh plan, whatever the reused plan held before.
+// Planning into a reused plan: the pieces must be exactly those of a fresh plan, whatever the
+// reused plan held before.
 #include "core/tessellation_plan.h"
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstring>
 #include <string>
 #include <utility>
@@ -26,14 +25,10 @@ bool sameDomain(const PatchDomain& a, const PatchDomain& b) {
          sameBits(a.axisS, b.axisS) && sameBits(a.axisT, b.axisT);
 }
 
-// Everything but the bounds, which a uniform plan may leave out.
-bool sameGeometry(const BezierPiece& a, const BezierPiece& b) {
-  return sameBits(a.bezier, b.bezier) && sameDomain(a.domain, b.domain) && a.kind == b.kind &&
-         a.depth == b.depth && a.level == b.level && a.ring == b.ring;
-}
-
 bool samePiece(const BezierPiece& a, const BezierPiece& b) {
-  return sameGeometry(a, b) && sameBits(a.approximationBound, b.approximationBound) &&
+  return sameBits(a.bezier, b.bezier) && sameDomain(a.domain, b.domain) && a.kind == b.kind &&
+         a.depth == b.depth && a.level == b.level && a.ring == b.ring &&
+         sameBits(a.approximationBound, b.approximationBound) &&
          sameBits(a.tessellationBound, b.tessellationBound) && sameBits(a.tolerance, b.tolerance);
 }
 
@@ -59,10 +54,9 @@ PatchSet loadPatches(const std::string& name) {
   return buildPatchSet(readObjFile(testing::modelsDir() + "/" + name + ".obj"));
 }
 
-TessellationOptions uniform(int p, bool bound) {
+TessellationOptions uniform(int p) {
   TessellationOptions options;
   options.uniformLevel = p;
-  options.uniformBound = bound;
   return options;
 }
 
@@ -88,33 +82,15 @@ TessellationOptions camera(const PatchSet& set) {
 TEST(TessellationPlan, ReusedPlanEqualsAFreshOne) {
   const PatchSet bigguy = loadPatches("bigguy"), car = loadPatches("car");
   const std::vector<std::pair<const PatchSet*, TessellationOptions>> requests = {
-      {&bigguy, uniform(64, false)}, {&bigguy, uniform(64, false)}, {&car, relative(1e-3)},
-      {&bigguy, uniform(16, true)},  {&car, uniform(64, false)},    {&bigguy, camera(bigguy)},
-      {&car, relative(1e-4)},        {&car, uniform(3, true)}};
+      {&bigguy, uniform(64)}, {&bigguy, uniform(64)}, {&car, relative(1e-3)},
+      {&bigguy, uniform(16)}, {&car, uniform(64)},    {&bigguy, camera(bigguy)},
+      {&car, relative(1e-4)}, {&car, uniform(3)}};
   TessellationPlan reused;
   for (size_t k = 0; k < requests.size(); ++k) {
     const auto& [patches, options] = requests[k];
     planTessellation(*patches, options, reused);
     expectSamePlan(planTessellation(*patches, options), reused, "request " + std::to_string(k));
   }
-}
-
-TEST(TessellationPlan, UniformPlanWithoutBoundsHasTheSamePiecesAndSaysSo) {
-  const PatchSet car = loadPatches("car");
-  const TessellationPlan proved = planTessellation(car, uniform(32, true));
-  const TessellationPlan fast = planTessellation(car, uniform(32, false));
-  ASSERT_EQ(proved.pieces.size(), fast.pieces.size());
-  size_t differing = 0;
-  for (size_t p = 0; p < proved.pieces.size(); ++p)
-    differing += !sameGeometry(proved.pieces[p], fast.pieces[p]);
-  EXPECT_EQ(differing, 0u);
-  EXPECT_TRUE(std::isfinite(proved.guaranteedBound));
-  EXPECT_GT(proved.guaranteedBound, 0);
-  EXPECT_TRUE(std::isnan(fast.guaranteedBound))
-      << "a bound that was not proved must not read as one";
-  EXPECT_TRUE(
-      std::isnan(fast.pieces.back().approximationBound));  // the last ring's innermost piece
-  EXPECT_EQ(fast.pieces.back().kind, PieceKind::kInnermost);
 }
 
 }  // namespace
