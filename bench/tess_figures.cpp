@@ -280,14 +280,14 @@ void registerDepthEstimates() {
 
 void registerEtaSweep() {
   for (const std::string& model : paperModels()) {
-    for (int eta10 = 1; eta10 <= 9; ++eta10) {
+    for (int eta10 = 0; eta10 <= 9; ++eta10) {
       std::string name = "BM_TessEtaRings/" + model + "/" + std::to_string(eta10);
       benchmark::RegisterBenchmark(name.c_str(), BM_TessEtaRings, model, eta10)
           ->UseManualTime()
           ->ComputeStatistics("min", fastestOf)
           ->Unit(benchmark::kMillisecond);
     }
-    for (int eta10 = 1; eta10 <= 9; ++eta10) {
+    for (int eta10 = 0; eta10 <= 9; ++eta10) {
       std::string name = "BM_TessEta/" + model + "/" + std::to_string(eta10);
       benchmark::RegisterBenchmark(name.c_str(), BM_TessEta, model, eta10)
           ->UseManualTime()

@@ -31,7 +31,7 @@ void TessellateFlags::addTo(CLI::App& command) {
   command.add_option("-o,--output", output, "GLB file to write")->required();
   command.add_option("--tolerance", tolerance, "Tolerance (object units, or a fraction of the diagonal)");
   command.add_flag("--relative", relative, "Tolerance is a fraction of the bounding-box diagonal");
-  command.add_option("--eta", eta, "Share of the tolerance for the Bezier approximation (0..1)");
+  command.add_option("--eta", eta, "Share of the tolerance for the Bezier approximation, in [0, 1); 0: single phase");
   command.add_option("--level", level, "Uniform tessellation level p (benchmark mode)");
   command.add_option("--eye", eye, "Camera position X,Y,Z (makes the tolerance pixel-accurate)");
   command.add_option("--target", target, "Camera target X,Y,Z");

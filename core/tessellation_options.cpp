@@ -26,8 +26,8 @@ void validateTessellationOptions(const TessellationOptions& o) {
   if (o.relativeTolerance && o.tolerance >= 1) {
     throwInvalid("a relative tolerance must be below 1 (a fraction of the bounding-box diagonal)");
   }
-  if (!std::isfinite(o.eta) || o.eta <= 0 || o.eta >= 1) {
-    throwInvalid("eta must lie strictly between 0 and 1, got " + std::to_string(o.eta));
+  if (!std::isfinite(o.eta) || o.eta < 0 || o.eta >= 1) {
+    throwInvalid("eta must be in [0, 1) (0: single phase), got " + std::to_string(o.eta));
   }
   if (o.maxTriangles <= 0) throwInvalid("the triangle budget must be positive");
   if (!o.camera) return;

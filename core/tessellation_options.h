@@ -21,7 +21,9 @@ struct TessellationOptions {
   bool relativeTolerance = false;
   std::optional<Camera> camera;   // makes the tolerance pixel-accurate for this view
   double pixelAccuracy = 0.5;     // in pixels, with a camera
-  double eta = 0.5;               // share of ε for the Bézier approximation (paper §5.1)
+  // Share of ε for the Bézier approximation (paper §5.1), in [0, 1). 0 is the paper's
+  // single-phase baseline: innermost quads become triangle pairs and the depth alone meets ε.
+  double eta = 0.5;
   int uniformLevel = 0;           // > 0: the paper's Table 2 setup instead of a tolerance
   int64_t maxTriangles = 20'000'000;
   bool recordParameters = false;  // keep each triangle's piece coordinates (tests, tools)
@@ -31,7 +33,7 @@ struct TessellationOptions {
 };
 
 // Throws TesseraError (kInvalidInput) naming the bad field: zero, negative or non-finite
-// tolerance, η outside (0, 1), a degenerate camera, a non-positive viewport, a level outside
+// tolerance, η outside [0, 1), a degenerate camera, a non-positive viewport, a level outside
 // 1..4096.
 void validateTessellationOptions(const TessellationOptions& options);
 

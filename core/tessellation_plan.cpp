@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/bicubic.h"
+#include "core/depth_bound.h"
 #include "core/depth_tables.h"
 #include "core/fas_rules.h"
 #include "core/innermost_patch.h"
@@ -105,6 +106,14 @@ void assignLevel(BezierPiece& piece, const Planning& planning, double epsilon) {
   piece.tessellationBound = float(achieved);
 }
 
+// Single phase (η = 0): an innermost piece is one triangle pair, within ε with its approximation
+// bound by the choice of depth (singlePhaseDepth).
+void assignTrianglePair(BezierPiece& piece, double epsilon) {
+  piece.level = 1;
+  piece.tessellationBound = float(curvatureBound(piece.bezier.data()) / 8);
+  piece.tolerance = float(epsilon);
+}
+
 // Every field of a piece that is a B-spline patch exactly (a reused slot keeps nothing old).
 void planExactPiece(BezierPiece& piece, const ControlNet& bspline, const PatchDomain& domain,
                     PieceKind kind, int depth, const Planning& planning) {
@@ -149,6 +158,31 @@ struct RingLayout {
   size_t first = 0;  // its first piece in the plan
 };
 
+// η = 0, the paper's single-phase baseline: the innermost quads' limit surfaces are approximated
+// directly by triangle pairs between their exact limit corners (the ACC-1 pieces at N = 1), so
+// the depth is the smallest at which the ACC-1 bound plus FMM86 at N = 1 meets all of ε on every
+// owned sector. Found by refining, since the FMM86 part depends on the refined ring.
+DepthEstimate singlePhaseDepth(const RingSet& rings, size_t r, double epsilon) {
+  const RingRules rules = rings.rules(r);
+  const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
+  const int ringFloats = 3 * rules.shape.ringPointCount();
+  std::vector<float> ring(rings.ringPoints(r), rings.ringPoints(r) + ringFloats);
+  std::vector<float> refined(3 * size_t(rules.shape.refinedPointCount()));
+  for (int depth = 0;; ++depth) {
+    const double approximation = boundAtDepth(rules, rings.ringPoints(r), depth);
+    double flat = 0;
+    for (int i = 0; i < rules.shape.sectors; ++i) {
+      if (!owned[i]) continue;
+      Vec3 net[16];
+      innermostNet(rules, i, ring.data(), Vec3(), net);
+      flat = std::max(flat, curvatureBound(net) / 8);
+    }
+    if (approximation + flat <= epsilon || depth == kMaxTableDepth) return {depth, approximation};
+    refineRingStep<3>(rules, ring.data(), refined.data());
+    std::copy(refined.begin(), refined.begin() + ringFloats, ring.begin());
+  }
+}
+
 RingLayout layoutRing(const RingSet& rings, size_t r, const Planning& planning) {
   const TessellationOptions& options = planning.options;
   const RingRules rules = rings.rules(r);
@@ -161,7 +195,8 @@ RingLayout layoutRing(const RingSet& rings, size_t r, const Planning& planning) 
   }
   const double epsilon =
       planning.tolerance.forRing(ring, rules.shape.ringPointCount(), rings.centers[r]);
-  DepthEstimate estimate = estimateDepth(rules, ring, options.eta * epsilon);
+  DepthEstimate estimate = options.eta == 0 ? singlePhaseDepth(rings, r, epsilon)
+                                            : estimateDepth(rules, ring, options.eta * epsilon);
   layout.depth = estimate.depth;
   layout.bound = estimate.bound;
   return layout;
@@ -202,6 +237,10 @@ void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
     piece.approximationBound = float(layout.bound);
     piece.ring = static_cast<int>(r);
     double pieceEpsilon = planning.tolerance.forPoints(piece.bezier.data(), 16);
+    if (planning.options.eta == 0 && planning.options.uniformLevel == 0) {
+      assignTrianglePair(piece, pieceEpsilon);
+      continue;
+    }
     double epsilon =
         std::max(pieceEpsilon - layout.bound, (1 - planning.options.eta) * pieceEpsilon);
     assignLevel(piece, planning, epsilon);

@@ -120,8 +120,8 @@ void checkTessellateRequest(const v1::TessellateRequest& request, const Tessella
   checkTolerance(request, limits);
   if (request.has_eta()) {
     double eta = request.eta();
-    if (!std::isfinite(eta) || eta <= 0 || eta >= 1) {
-      throwInvalidArgument(fmt::format("eta: must be in (0, 1) (got {})", eta));
+    if (!std::isfinite(eta) || eta < 0 || eta >= 1) {
+      throwInvalidArgument(fmt::format("eta: must be in [0, 1) (got {})", eta));
     }
   }
   if (request.has_uniform_level()) {

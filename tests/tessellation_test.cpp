@@ -60,9 +60,11 @@ Measured measure(const TessellationResult& result, Reference& reference) {
   return m;
 }
 
-TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& set, double relative) {
+TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& set, double relative,
+                                double eta = 0.5) {
   TessellationOptions options;
   options.tolerance = relative;
+  options.eta = eta;
   options.relativeTolerance = true;
   options.recordParameters = true;
   return tessellate(set, mesh, options);
@@ -125,13 +127,15 @@ bool hasBoundary(const ControlMesh& mesh) {
 }
 
 template <typename Reference>
-void expectWithinToleranceAndWatertight(const std::string& path, const ControlMesh& mesh, Reference& reference) {
+void expectWithinToleranceAndWatertight(const std::string& path, const ControlMesh& mesh,
+                                        Reference& reference, double eta) {
   PatchSet set = buildPatchSet(mesh);
   const double diagonal = diagonalOf(set);
   double previous = INFINITY;
   for (double relative : {1e-2, 1e-3, 1e-4}) {
-    SCOPED_TRACE(testing::baseName(path) + " at " + std::to_string(relative));
-    TessellationResult result = tessellateAt(mesh, set, relative);
+    SCOPED_TRACE(testing::baseName(path) + " at " + std::to_string(relative) + ", eta " +
+                 std::to_string(eta));
+    TessellationResult result = tessellateAt(mesh, set, relative, eta);
     Measured m = measure(result, reference);
     const double epsilon = relative * diagonal;
     EXPECT_LE(m.worst, epsilon) << m.sampled << " of " << m.triangles << " triangles sampled";
@@ -151,14 +155,14 @@ void expectWithinToleranceAndWatertight(const std::string& path, const ControlMe
   }
 }
 
-void expectModel(const std::string& path) {
+void expectModel(const std::string& path, double eta = 0.5) {
   ControlMesh mesh = readObjFile(path);
   if (testing::baseName(path).find("val2") != std::string::npos) {
     testing::FarPatchReference reference(mesh);
-    expectWithinToleranceAndWatertight(path, mesh, reference);
+    expectWithinToleranceAndWatertight(path, mesh, reference, eta);
   } else {
     testing::BfrReference reference(mesh);
-    expectWithinToleranceAndWatertight(path, mesh, reference);
+    expectWithinToleranceAndWatertight(path, mesh, reference, eta);
   }
 }
 
@@ -177,6 +181,32 @@ TEST(Tessellation, OpenSubdivShapesStayWithinToleranceAndAreWatertight) {
     }
     expectModel(path);
   }
+}
+
+// η = 0, the paper's single-phase baseline: the depth alone must carry the innermost quads, now
+// triangle pairs, within ε; smooth, crease, corner, boundary and dart rings.
+TEST(Tessellation, SinglePhaseStaysWithinToleranceAndIsWatertight) {
+  const std::string shapes = testing::modelsDir() + "/opensubdiv-shapes/";
+  for (const std::string& path :
+       {testing::modelsDir() + "/bigguy.obj", shapes + "catmark_cube_creases2.obj",
+        shapes + "catmark_cube_corner4.obj", shapes + "catmark_edgecorner.obj",
+        shapes + "catmark_dart_edgeonly.obj", shapes + "catmark_pole64.obj"}) {
+    expectModel(path, 0.0);
+  }
+}
+
+TEST(Tessellation, SinglePhaseMakesInnermostQuadsTrianglePairs) {
+  ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
+  PatchSet set = buildPatchSet(mesh);
+  TessellationResult result = tessellateAt(mesh, set, 1e-3, 0.0);
+  size_t innermost = 0, notAPair = 0;
+  for (const BezierPiece& piece : result.plan.pieces) {
+    if (piece.kind != PieceKind::kInnermost) continue;
+    ++innermost;
+    notAPair += piece.level != 1;
+  }
+  EXPECT_GT(innermost, 0u);
+  EXPECT_EQ(notAPair, 0u);
 }
 
 TEST(Tessellation, WritesGlbThatKhronosValidatorAccepts) {
@@ -220,6 +250,8 @@ TEST(Tessellation, RefusesBadOptionsWithClearErrors) {
   expectError(o, ErrorKind::kInvalidInput, "tolerance");
   o = {};
   o.eta = 1.5;
+  expectError(o, ErrorKind::kInvalidInput, "eta");
+  o.eta = -0.1;
   expectError(o, ErrorKind::kInvalidInput, "eta");
   o = {};
   o.tolerance = 1e-6;

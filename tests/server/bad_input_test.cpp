@@ -407,7 +407,7 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
       {"tolerance below the server's minimum", grpc::StatusCode::RESOURCE_EXHAUSTED,
        "min_relative_tolerance",
        [&] { return tessellateWith([](auto& r) { r.set_relative(1e-12); }); }},
-      {"eta above 1", grpc::StatusCode::INVALID_ARGUMENT, "eta: must be in (0, 1)",
+      {"eta above 1", grpc::StatusCode::INVALID_ARGUMENT, "eta: must be in [0, 1)",
        [&] { return tessellateWith([](auto& r) { r.set_eta(1.5); }); }},
       {"NaN eta", grpc::StatusCode::INVALID_ARGUMENT, "eta",
        [&] { return tessellateWith([](auto& r) { r.set_eta(kNaN); }); }},
