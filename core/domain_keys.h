@@ -17,6 +17,9 @@ struct DomainKey {
   bool operator<(const DomainKey& o) const {
     return std::tie(kind, a, b, c, x, y) < std::tie(o.kind, o.a, o.b, o.c, o.x, o.y);
   }
+  bool operator==(const DomainKey& o) const {
+    return std::tie(kind, a, b, c, x, y) == std::tie(o.kind, o.a, o.b, o.c, o.x, o.y);
+  }
 };
 
 // The base mesh's faces, to name edges by their vertices.

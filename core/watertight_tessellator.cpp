@@ -1,7 +1,14 @@
 #include "core/watertight_tessellator.h"
 
+#include <tbb/concurrent_unordered_map.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <functional>
 #include <map>
 
@@ -31,9 +38,53 @@ struct Line {
   std::vector<SideUse> uses;
   std::vector<double> breaks;          // sorted parameters where some side starts or ends
   std::vector<int> levels;             // per elementary interval
+  std::vector<int> owner;              // per interval: the use whose piece evaluates it, or -1
   std::vector<std::vector<uint32_t>> interiorVertices;  // per interval, in increasing parameter
 };
 
+// Consistent with DomainKey's == (0.0 and -0.0 hash alike); every part mixed (splitmix64), since
+// the map's buckets take the low bits.
+struct DomainKeyHash {
+  static uint64_t mix(uint64_t z) {
+    z += 0x9e3779b97f4a7c15u;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+  }
+  static uint64_t bits(double value) {
+    uint64_t b;
+    const double canonical = value == 0 ? 0.0 : value;
+    std::memcpy(&b, &canonical, sizeof b);
+    return b;
+  }
+  size_t operator()(const DomainKey& k) const {
+    uint64_t h = mix(uint64_t(k.kind) << 32 ^ uint32_t(k.a));
+    h = mix(h ^ (uint64_t(uint32_t(k.b)) << 32 | uint32_t(k.c)));
+    h = mix(h ^ bits(k.x));
+    return size_t(mix(h ^ bits(k.y)));
+  }
+};
+
+constexpr uint32_t kNoVertex = UINT32_MAX;
+
+// A point of the domain where piece sides end: the first piece (in plan order) that has it
+// evaluates it, whichever thread found it first.
+struct PointEntry {
+  std::atomic<uint32_t> owner{kNoVertex};
+  uint32_t vertex = kNoVertex;
+};
+
+// Triangles of a run of pieces, in piece order; runs are concatenated in order.
+struct TriangleBatch {
+  std::vector<uint32_t> indices, pieces;
+  std::vector<double> st;
+};
+
+// Passes that give the same mesh whatever the thread count (the mesh a one-pass walk in plan
+// order gives): lines are collected in plan order and resolved on all cores; the points where
+// piece sides end are found on all cores, each owned by the first piece that has it; vertices are
+// numbered on one thread in plan order (no lookups left by then); triangles are emitted on all
+// cores, run by run, and concatenated in order; vertices are evaluated last, on all cores.
 class Tessellator {
  public:
   Tessellator(const TessellationPlan& plan, const FaceTopology& faces, bool recordParameters,
@@ -42,25 +93,60 @@ class Tessellator {
   TriangleMesh run();
 
  private:
-  void collectSides();
-  void resolveLines();
-  uint32_t vertexAt(uint32_t piece, double s, double t);
-  uint32_t pointVertex(uint32_t piece, double s, double t);
   struct Corner {
     uint32_t vertex;
     double phi, s, t;  // position along a side (boundary corners), and in the piece
   };
-  std::vector<Corner> sideVertices(uint32_t piece, int side);
-  void triangulatePiece(uint32_t piece);
-  void emitTriangle(const Corner& a, const Corner& b, const Corner& c, uint32_t piece);
+  struct PieceSide {
+    const Line* line;
+    int use;
+  };
+
+  void collectSides();
+  void resolveLines();
+  void numberLineVertices(Line& line);
+  uint32_t vertexAt(uint32_t piece, double s, double t);
+  struct LocalPoint {
+    PointEntry* entry;
+    double s, t;
+  };
+  // What the point pass found for a run of pieces: every side-end visit, in visit order, and each
+  // piece's distinct points in first-visit order.
+  struct PieceRun {
+    std::vector<PointEntry*> visits;
+    std::vector<LocalPoint> points;
+    std::vector<uint32_t> visitFirst, pointFirst;  // per piece of the run, and the end
+  };
+  static constexpr size_t kRun = 512;
+  void findPoints(size_t run);
+  void numberPieces();
+  template <typename PointIndex>
+  void sideVertices(uint32_t piece, int side, PointIndex&& pointIndex,
+                    std::vector<Corner>& result) const;
+  using Sides = std::array<std::vector<Corner>, 4>;
+  void triangulatePiece(uint32_t piece, PointEntry* const* visits, Sides& sides,
+                        TriangleBatch& out) const;
+  void emitTriangle(const Corner& a, const Corner& b, const Corner& c, uint32_t piece,
+                    TriangleBatch& out) const;
+  void triangulateAll();
+  void evaluateVertices();
 
   const TessellationPlan& plan_;
   const FaceTopology& faces_;
   const bool recordParameters_;
   const std::function<void()>& checkpoint_;
+  // Map nodes never move, so PieceSide keeps pointers.
   std::map<DomainKey, Line> lines_;
-  std::vector<std::array<std::pair<DomainKey, int>, 4>> pieceSides_;  // line key, use index
-  std::map<DomainKey, uint32_t> points_;
+  std::vector<std::array<PieceSide, 4>> pieceSides_;
+  tbb::concurrent_unordered_map<DomainKey, PointEntry, DomainKeyHash> points_;
+  std::vector<PieceRun> runs_;
+  std::vector<uint8_t> trianglePair_;  // level 1 and nothing on its sides but its corners
+  std::vector<uint32_t> gridFirst_;    // first of its (N−1)² (or one centre) inner vertices
+  struct VertexRequest {
+    uint32_t piece;
+    double s, t;
+  };
+  std::vector<VertexRequest> requests_;  // vertex i is piece requests_[i].piece at (s, t)
   TriangleMesh mesh_;
 };
 
@@ -79,16 +165,21 @@ void Tessellator::collectSides() {
       DomainKey key = lineKey(faces_, d.baseFace, d.subFace, u0, v0, alongU, from);
       lineKey(faces_, d.baseFace, d.subFace, u1, v1, alongU, to);
       Line& line = lines_[key];
-      pieceSides_[p][side] = {key, int(line.uses.size())};
+      pieceSides_[p][side] = {&line, int(line.uses.size())};
       line.uses.push_back({p, side, from, to});
     }
   }
 }
 
 // Elementary intervals between all side ends on a line; each takes the finest level any side
-// covering it needs (its level scaled to the interval's share of the side).
+// covering it needs (its level scaled to the interval's share of the side). Lines are independent
+// and resolved on all cores; their vertices are numbered in key order afterwards.
 void Tessellator::resolveLines() {
-  for (auto& [key, line] : lines_) {
+  std::vector<std::pair<const DomainKey*, Line*>> ordered;
+  ordered.reserve(lines_.size());
+  for (auto& [key, line] : lines_) ordered.push_back({&key, &line});
+  tbb::parallel_for(size_t(0), ordered.size(), [&](size_t l) {
+    Line& line = *ordered[l].second;
     for (const SideUse& use : line.uses) {
       line.breaks.push_back(use.from);
       line.breaks.push_back(use.to);
@@ -98,7 +189,7 @@ void Tessellator::resolveLines() {
     const size_t intervals = line.breaks.size() - 1;
     line.levels.assign(intervals, 1);
     line.interiorVertices.resize(intervals);
-    std::vector<int> owner(intervals, -1);
+    line.owner.assign(intervals, -1);
     for (size_t u = 0; u < line.uses.size(); ++u) {
       const SideUse& use = line.uses[u];
       double lo = std::min(use.from, use.to), hi = std::max(use.from, use.to);
@@ -107,69 +198,52 @@ void Tessellator::resolveLines() {
         if (line.breaks[i] < lo || line.breaks[i + 1] > hi) continue;
         double share = (line.breaks[i + 1] - line.breaks[i]) / (hi - lo);
         line.levels[i] = std::max(line.levels[i], int(std::ceil(level * share - 1e-9)));
-        if (owner[i] < 0) owner[i] = int(u);
+        if (line.owner[i] < 0) line.owner[i] = int(u);
       }
     }
-    for (size_t i = 0; i < intervals; ++i) {
-      if (owner[i] < 0) continue;
-      const SideUse& use = line.uses[owner[i]];
-      for (int k = 1; k < line.levels[i]; ++k) {
-        double parameter = line.breaks[i] + (line.breaks[i + 1] - line.breaks[i]) * k / line.levels[i];
-        double s, t;
-        sidePoint(use.side, (parameter - use.from) / (use.to - use.from), s, t);
-        line.interiorVertices[i].push_back(vertexAt(use.piece, s, t));
-      }
+  });
+  for (const auto& entry : ordered) numberLineVertices(*entry.second);
+}
+
+void Tessellator::numberLineVertices(Line& line) {
+  for (size_t i = 0; i < line.levels.size(); ++i) {
+    if (line.owner[i] < 0) continue;
+    const SideUse& use = line.uses[line.owner[i]];
+    for (int k = 1; k < line.levels[i]; ++k) {
+      double parameter = line.breaks[i] + (line.breaks[i + 1] - line.breaks[i]) * k / line.levels[i];
+      double s, t;
+      sidePoint(use.side, (parameter - use.from) / (use.to - use.from), s, t);
+      line.interiorVertices[i].push_back(vertexAt(use.piece, s, t));
     }
   }
 }
 
 uint32_t Tessellator::vertexAt(uint32_t p, double s, double t) {
-  const BezierPiece& piece = plan_.pieces[p];
-  PatchSample sample = evaluateBezier(piece.bezier.data(), s, t);
-  Vec3d normal = cross(sample.dPds, sample.dPdt);
-  if (piece.kind == PieceKind::kInnermost && s == 0 && t == 0 && length(plan_.evNormals[piece.ring]) > 0) {
-    normal = plan_.evNormals[piece.ring];
-  }
-  double l = length(normal);
-  normal = l > 0 ? normal * (1.0 / l) : Vec3d(0, 0, 1);
-  double u, v;
-  piece.domain.map(s, t, u, v);
-  mesh_.positions.push_back(Vec3(sample.position));
-  mesh_.normals.push_back(Vec3(normal));
-  mesh_.vertexFace.push_back(piece.domain.baseFace);
-  mesh_.vertexSubFace.push_back(piece.domain.subFace);
-  mesh_.vertexUv.insert(mesh_.vertexUv.end(), {u, v});
-  return uint32_t(mesh_.positions.size() - 1);
+  requests_.push_back({p, s, t});
+  return uint32_t(requests_.size() - 1);
 }
 
-uint32_t Tessellator::pointVertex(uint32_t p, double s, double t) {
-  const PatchDomain& d = plan_.pieces[p].domain;
-  double u, v;
-  d.map(s, t, u, v);
-  DomainKey key = pointKey(faces_, d.baseFace, d.subFace, u, v);
-  auto found = points_.find(key);
-  if (found != points_.end()) return found->second;
-  uint32_t index = vertexAt(p, s, t);
-  points_.emplace(key, index);
-  return index;
-}
-
-// The vertices along one side, start corner to end corner, with their position phi on the side.
-std::vector<Tessellator::Corner> Tessellator::sideVertices(uint32_t p, int side) {
-  const auto& [key, useIndex] = pieceSides_[p][side];
-  const Line& line = lines_.at(key);
-  const SideUse& use = line.uses[useIndex];
-  std::vector<Corner> result;
+// The vertices along one side, start corner to end corner, with their position phi on the side,
+// into `result` (the caller's, reused). `pointIndex(s, t)` gives the vertex of each interval
+// end, in the order they are visited.
+template <typename PointIndex>
+void Tessellator::sideVertices(uint32_t p, int side, PointIndex&& pointIndex,
+                               std::vector<Corner>& result) const {
+  const Line& line = *pieceSides_[p][side].line;
+  const SideUse& use = line.uses[pieceSides_[p][side].use];
+  result.clear();
   double lo = std::min(use.from, use.to), hi = std::max(use.from, use.to);
   auto corner = [&](uint32_t vertex, double parameter) {
     Corner c{vertex, (parameter - use.from) / (use.to - use.from), 0, 0};
     sidePoint(side, c.phi, c.s, c.t);
     return c;
   };
-  for (size_t i = 0; i + 1 < line.breaks.size(); ++i) {
-    if (line.breaks[i] < lo || line.breaks[i + 1] > hi) continue;
+  // Breaks are sorted: the side's intervals start at lo (a line can carry thousands of them).
+  const size_t first = size_t(std::lower_bound(line.breaks.begin(), line.breaks.end(), lo) -
+                              line.breaks.begin());
+  for (size_t i = first; i + 1 < line.breaks.size() && line.breaks[i + 1] <= hi; ++i) {
     Corner start = corner(0, line.breaks[i]);
-    start.vertex = pointVertex(p, start.s, start.t);
+    start.vertex = pointIndex(start.s, start.t);
     result.push_back(start);
     for (int k = 1; k < line.levels[i]; ++k) {
       double parameter = line.breaks[i] + (line.breaks[i + 1] - line.breaks[i]) * k / line.levels[i];
@@ -177,47 +251,108 @@ std::vector<Tessellator::Corner> Tessellator::sideVertices(uint32_t p, int side)
     }
   }
   Corner end = corner(0, hi);
-  end.vertex = pointVertex(p, end.s, end.t);
+  end.vertex = pointIndex(end.s, end.t);
   result.push_back(end);
   if (use.from > use.to) std::reverse(result.begin(), result.end());  // side runs against the line
-  return result;
 }
 
-void Tessellator::emitTriangle(const Corner& a, const Corner& b, const Corner& c, uint32_t piece) {
-  if (a.vertex == b.vertex || b.vertex == c.vertex || a.vertex == c.vertex) return;
-  mesh_.indices.insert(mesh_.indices.end(), {a.vertex, b.vertex, c.vertex});
-  mesh_.trianglePiece.push_back(piece);
-  if (recordParameters_) mesh_.triangleST.insert(mesh_.triangleST.end(), {a.s, a.t, b.s, b.t, c.s, c.t});
-}
+int innerSide(int level) { return std::max(level - 1, 1); }
 
-void Tessellator::triangulatePiece(uint32_t p) {
-  const int n = plan_.pieces[p].level;
-  std::array<std::vector<Corner>, 4> sides;
-  bool onlyCorners = true;
-  for (int side = 0; side < 4; ++side) {
-    sides[side] = sideVertices(p, side);
-    onlyCorners &= sides[side].size() == 2;
+// Pieces of one run, on any thread: the domain points their sides end at, each registered in
+// points_ with the smallest piece that has it as owner.
+void Tessellator::findPoints(size_t r) {
+  PieceRun& run = runs_[r];
+  std::vector<Corner> side;
+  const size_t end = std::min(plan_.pieces.size(), (r + 1) * kRun);
+  for (size_t piece = r * kRun; piece < end; ++piece) {
+    const uint32_t p = uint32_t(piece);
+    const PatchDomain& d = plan_.pieces[p].domain;
+    const size_t firstPoint = run.points.size();
+    run.visitFirst.push_back(uint32_t(run.visits.size()));
+    run.pointFirst.push_back(uint32_t(firstPoint));
+    auto visit = [&](double s, double t) {
+      // Each corner ends one side and starts the next: found once per piece.
+      for (size_t k = firstPoint; k < run.points.size(); ++k) {
+        if (run.points[k].s == s && run.points[k].t == t) {
+          run.visits.push_back(run.points[k].entry);
+          return kNoVertex;
+        }
+      }
+      double u, v;
+      d.map(s, t, u, v);
+      PointEntry& entry = points_[pointKey(faces_, d.baseFace, d.subFace, u, v)];
+      uint32_t owner = entry.owner.load(std::memory_order_relaxed);
+      while (p < owner && !entry.owner.compare_exchange_weak(owner, p)) {
+      }
+      run.points.push_back({&entry, s, t});
+      run.visits.push_back(&entry);
+      return kNoVertex;
+    };
+    bool onlyCorners = true;
+    for (int k = 0; k < 4; ++k) {
+      sideVertices(p, k, visit, side);
+      onlyCorners &= side.size() == 2;
+    }
+    trianglePair_[p] = plan_.pieces[p].level == 1 && onlyCorners;
   }
-  if (n == 1 && onlyCorners) {
-    emitTriangle(sides[0][0], sides[0][1], sides[1][1], p);
-    emitTriangle(sides[0][0], sides[1][1], sides[2][1], p);
+  run.visitFirst.push_back(uint32_t(run.visits.size()));
+  run.pointFirst.push_back(uint32_t(run.points.size()));
+}
+
+// Vertex numbers in plan order, as a one-pass tessellator gives them: each piece's new points (those
+// it owns, in first-visit order), then its inner grid.
+void Tessellator::numberPieces() {
+  for (size_t r = 0; r < runs_.size(); ++r) {
+    const PieceRun& run = runs_[r];
+    for (size_t k = 0; k + 1 < run.pointFirst.size(); ++k) {
+      const uint32_t p = uint32_t(r * kRun + k);
+      if (checkpoint_ && p % 4096 == 0) checkpoint_();
+      for (uint32_t q = run.pointFirst[k]; q < run.pointFirst[k + 1]; ++q) {
+        const LocalPoint& point = run.points[q];
+        if (point.entry->owner.load(std::memory_order_relaxed) == p &&
+            point.entry->vertex == kNoVertex) {
+          point.entry->vertex = vertexAt(p, point.s, point.t);
+        }
+      }
+      gridFirst_[p] = uint32_t(requests_.size());
+      if (trianglePair_[p]) continue;
+      const int level = plan_.pieces[p].level, inner = innerSide(level);
+      const double step = level == 1 ? 0.5 : 1.0 / level;
+      for (int j = 0; j < inner; ++j) {
+        for (int i = 0; i < inner; ++i) vertexAt(p, (i + 1) * step, (j + 1) * step);
+      }
+    }
+  }
+}
+
+void Tessellator::emitTriangle(const Corner& a, const Corner& b, const Corner& c, uint32_t piece,
+                               TriangleBatch& out) const {
+  if (a.vertex == b.vertex || b.vertex == c.vertex || a.vertex == c.vertex) return;
+  out.indices.insert(out.indices.end(), {a.vertex, b.vertex, c.vertex});
+  out.pieces.push_back(piece);
+  if (recordParameters_) out.st.insert(out.st.end(), {a.s, a.t, b.s, b.t, c.s, c.t});
+}
+
+void Tessellator::triangulatePiece(uint32_t p, PointEntry* const* visits, Sides& sides,
+                                   TriangleBatch& out) const {
+  const int n = plan_.pieces[p].level;
+  for (int side = 0; side < 4; ++side)
+    sideVertices(p, side, [&](double, double) { return (*visits++)->vertex; }, sides[side]);
+  if (trianglePair_[p]) {
+    emitTriangle(sides[0][0], sides[0][1], sides[1][1], p, out);
+    emitTriangle(sides[0][0], sides[1][1], sides[2][1], p, out);
     return;
   }
   // Inner grid: (n-1)² points at (i/n, j/n); with n == 1 a single centre point.
-  const int inner = std::max(n - 1, 1);
+  const int inner = innerSide(n);
   const double step = n == 1 ? 0.5 : 1.0 / n;
-  std::vector<Corner> grid(size_t(inner) * inner);
-  for (int j = 0; j < inner; ++j) {
-    for (int i = 0; i < inner; ++i) {
-      double s = (i + 1) * step, t = (j + 1) * step;
-      grid[size_t(j) * inner + i] = {vertexAt(p, s, t), 0, s, t};
-    }
-  }
-  auto at = [&](int i, int j) { return grid[size_t(j) * inner + i]; };
+  auto at = [&](int i, int j) {
+    return Corner{gridFirst_[p] + uint32_t(j * inner + i), 0, (i + 1) * step, (j + 1) * step};
+  };
   for (int j = 0; j + 1 < inner; ++j) {
     for (int i = 0; i + 1 < inner; ++i) {
-      emitTriangle(at(i, j), at(i + 1, j), at(i + 1, j + 1), p);
-      emitTriangle(at(i, j), at(i + 1, j + 1), at(i, j + 1), p);
+      emitTriangle(at(i, j), at(i + 1, j), at(i + 1, j + 1), p, out);
+      emitTriangle(at(i, j), at(i + 1, j + 1), at(i, j + 1), p, out);
     }
   }
   // Each side's boundary polyline zipped to the inner grid's border row, both running with the side.
@@ -241,23 +376,81 @@ void Tessellator::triangulatePiece(uint32_t p) {
       bool advanceBoundary =
           c + 1 >= row.size() || (a + 1 < boundary.size() && boundary[a + 1].phi <= row[c + 1].phi);
       if (advanceBoundary) {
-        emitTriangle(boundary[a], boundary[a + 1], row[c], p);
+        emitTriangle(boundary[a], boundary[a + 1], row[c], p, out);
         ++a;
       } else {
-        emitTriangle(boundary[a], row[c + 1], row[c], p);
+        emitTriangle(boundary[a], row[c + 1], row[c], p, out);
         ++c;
       }
     }
   }
 }
 
+// The runs on all cores, each into its own batch, then the batches in order.
+void Tessellator::triangulateAll() {
+  std::vector<TriangleBatch> batches(runs_.size());
+  tbb::parallel_for(size_t(0), runs_.size(), [&](size_t r) {
+    if (checkpoint_) checkpoint_();
+    const PieceRun& run = runs_[r];
+    Sides sides;
+    for (size_t k = 0; k + 1 < run.visitFirst.size(); ++k) {
+      triangulatePiece(uint32_t(r * kRun + k), run.visits.data() + run.visitFirst[k], sides,
+                       batches[r]);
+    }
+  });
+  for (TriangleBatch& batch : batches) {
+    mesh_.indices.insert(mesh_.indices.end(), batch.indices.begin(), batch.indices.end());
+    mesh_.trianglePiece.insert(mesh_.trianglePiece.end(), batch.pieces.begin(), batch.pieces.end());
+    mesh_.triangleST.insert(mesh_.triangleST.end(), batch.st.begin(), batch.st.end());
+  }
+}
+
+void Tessellator::evaluateVertices() {
+  const size_t count = requests_.size();
+  mesh_.positions.resize(count);
+  mesh_.normals.resize(count);
+  mesh_.vertexFace.resize(count);
+  mesh_.vertexSubFace.resize(count);
+  mesh_.vertexUv.resize(2 * count);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& range) {
+    if (checkpoint_) checkpoint_();
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const auto [p, s, t] = requests_[i];
+      const BezierPiece& piece = plan_.pieces[p];
+      PatchSample sample = evaluateBezier(piece.bezier.data(), s, t);
+      Vec3d normal = cross(sample.dPds, sample.dPdt);
+      if (piece.kind == PieceKind::kInnermost && s == 0 && t == 0 &&
+          length(plan_.evNormals[piece.ring]) > 0) {
+        normal = plan_.evNormals[piece.ring];
+      }
+      double l = length(normal);
+      normal = l > 0 ? normal * (1.0 / l) : Vec3d(0, 0, 1);
+      mesh_.positions[i] = Vec3(sample.position);
+      mesh_.normals[i] = Vec3(normal);
+      mesh_.vertexFace[i] = piece.domain.baseFace;
+      mesh_.vertexSubFace[i] = piece.domain.subFace;
+      piece.domain.map(s, t, mesh_.vertexUv[2 * i], mesh_.vertexUv[2 * i + 1]);
+    }
+  });
+}
+
 TriangleMesh Tessellator::run() {
   collectSides();
   resolveLines();
-  for (uint32_t p = 0; p < plan_.pieces.size(); ++p) {
-    if (checkpoint_ && p % 256 == 0) checkpoint_();
-    triangulatePiece(p);
-  }
+  const size_t pieces = plan_.pieces.size();
+  runs_.resize((pieces + kRun - 1) / kRun);
+  trianglePair_.resize(pieces);
+  gridFirst_.resize(pieces);
+  // Buckets for the points up front (about one per piece on a quad mesh): a split-ordered list
+  // that grows its buckets as it fills walks long chains.
+  points_.rehash(2 * pieces);
+  tbb::parallel_for(size_t(0), runs_.size(), [&](size_t r) {
+    if (checkpoint_) checkpoint_();
+    findPoints(r);
+  });
+  numberPieces();
+  triangulateAll();
+  evaluateVertices();
   return std::move(mesh_);
 }
 

@@ -6,10 +6,12 @@
 // tile each face's domain exactly: see PatchSet.CoversEveryFaceExactlyOnce). x comes from Bfr
 // (Far's patch table for valence-2 shapes), exact for pieces down to Far level 10.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 
 #include "core/error.h"
@@ -207,6 +209,31 @@ TEST(Tessellation, SinglePhaseMakesInnermostQuadsTrianglePairs) {
   }
   EXPECT_GT(innermost, 0u);
   EXPECT_EQ(notAPair, 0u);
+}
+
+// The tessellator works on all cores; its mesh must not depend on how many there are.
+TEST(Tessellation, TheMeshIsTheSameWhateverTheThreadCount) {
+  const std::string shapes = testing::modelsDir() + "/opensubdiv-shapes/";
+  for (const std::string& path :
+       {testing::modelsDir() + "/bigguy.obj", testing::modelsDir() + "/car.obj",
+        shapes + "catmark_nonquads.obj", shapes + "catmark_hole_test1.obj"}) {
+    SCOPED_TRACE(testing::baseName(path));
+    ControlMesh mesh = readObjFile(path);
+    PatchSet set = buildPatchSet(mesh);
+    TessellationResult parallel = tessellateAt(mesh, set, 1e-3);
+    TessellationResult serial;
+    tbb::task_arena oneThread(1);
+    oneThread.execute([&] { serial = tessellateAt(mesh, set, 1e-3); });
+    const TriangleMesh &a = parallel.mesh, &b = serial.mesh;
+    ASSERT_EQ(a.positions.size(), b.positions.size());
+    EXPECT_EQ(0, std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3)));
+    EXPECT_EQ(0, std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(Vec3)));
+    EXPECT_EQ(a.indices, b.indices);
+    EXPECT_EQ(a.trianglePiece, b.trianglePiece);
+    EXPECT_EQ(a.triangleST, b.triangleST);
+    EXPECT_EQ(a.vertexFace, b.vertexFace);
+    EXPECT_EQ(a.vertexUv, b.vertexUv);
+  }
 }
 
 TEST(Tessellation, WritesGlbThatKhronosValidatorAccepts) {
