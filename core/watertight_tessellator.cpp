@@ -2,6 +2,7 @@
 
 #include <tbb/concurrent_unordered_map.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -10,7 +11,6 @@
 #include <cstdint>
 #include <cstring>
 #include <functional>
-#include <map>
 
 #include "core/bicubic.h"
 
@@ -28,18 +28,21 @@ void sidePoint(int side, double phi, double& s, double& t) {
   }
 }
 
+// One side of one piece on its canonical line.
 struct SideUse {
+  DomainKey line;
+  double from, to;  // line parameters at the side's start and end
   uint32_t piece;
   int side;
-  double from, to;  // line parameters at the side's start and end
 };
 
+// A canonical line: its uses are a run of the sorted uses, in plan order. Its sorted breaks (the
+// parameters where some side starts or ends) and, per elementary interval between them, the level,
+// the use whose piece evaluates it (or -1) and the first of its level − 1 interior vertices
+// (numbered consecutively) live in flat arrays from 2·firstUse on: a line has at most two breaks
+// per use.
 struct Line {
-  std::vector<SideUse> uses;
-  std::vector<double> breaks;          // sorted parameters where some side starts or ends
-  std::vector<int> levels;             // per elementary interval
-  std::vector<int> owner;              // per interval: the use whose piece evaluates it, or -1
-  std::vector<std::vector<uint32_t>> interiorVertices;  // per interval, in increasing parameter
+  uint32_t firstUse = 0, useCount = 0, breakCount = 0;
 };
 
 // Consistent with DomainKey's == (0.0 and -0.0 hash alike); every part mixed (splitmix64), since
@@ -97,14 +100,9 @@ class Tessellator {
     uint32_t vertex;
     double phi, s, t;  // position along a side (boundary corners), and in the piece
   };
-  struct PieceSide {
-    const Line* line;
-    int use;
-  };
-
   void collectSides();
   void resolveLines();
-  void numberLineVertices(Line& line);
+  void numberLineVertices(const Line& line);
   uint32_t vertexAt(uint32_t piece, double s, double t);
   struct LocalPoint {
     PointEntry* entry;
@@ -135,9 +133,13 @@ class Tessellator {
   const FaceTopology& faces_;
   const bool recordParameters_;
   const std::function<void()>& checkpoint_;
-  // Map nodes never move, so PieceSide keeps pointers.
-  std::map<DomainKey, Line> lines_;
-  std::vector<std::array<PieceSide, 4>> pieceSides_;
+  std::vector<SideUse> uses_;          // sorted by line, then plan order
+  std::vector<uint32_t> sideUse_;      // piece side 4p + k → its use
+  std::vector<uint32_t> useLine_;      // use → its line
+  std::vector<Line> lines_;            // in key order
+  std::vector<double> breaks_;
+  std::vector<int> levels_, owners_;
+  std::vector<uint32_t> interiorFirst_;
   tbb::concurrent_unordered_map<DomainKey, PointEntry, DomainKeyHash> points_;
   std::vector<PieceRun> runs_;
   std::vector<uint8_t> trianglePair_;  // level 1 and nothing on its sides but its corners
@@ -150,9 +152,13 @@ class Tessellator {
   TriangleMesh mesh_;
 };
 
+// Every piece side's line and parameters on all cores, then the sides sorted by line (ties in plan
+// order), so that lines come in key order and each line's uses in plan order.
 void Tessellator::collectSides() {
-  pieceSides_.resize(plan_.pieces.size());
-  for (uint32_t p = 0; p < plan_.pieces.size(); ++p) {
+  const size_t pieces = plan_.pieces.size();
+  uses_.resize(4 * pieces);
+  tbb::parallel_for(size_t(0), pieces, [&](size_t piece) {
+    const uint32_t p = uint32_t(piece);
     const PatchDomain& d = plan_.pieces[p].domain;
     for (int side = 0; side < 4; ++side) {
       double s0, t0, s1, t1, u0, v0, u1, v1;
@@ -161,13 +167,26 @@ void Tessellator::collectSides() {
       d.map(s0, t0, u0, v0);
       d.map(s1, t1, u1, v1);
       bool alongU = v0 == v1;
-      double from, to;
-      DomainKey key = lineKey(faces_, d.baseFace, d.subFace, u0, v0, alongU, from);
-      lineKey(faces_, d.baseFace, d.subFace, u1, v1, alongU, to);
-      Line& line = lines_[key];
-      pieceSides_[p][side] = {&line, int(line.uses.size())};
-      line.uses.push_back({p, side, from, to});
+      SideUse& use = uses_[4 * piece + side];
+      use.line = lineKey(faces_, d.baseFace, d.subFace, u0, v0, alongU, use.from);
+      lineKey(faces_, d.baseFace, d.subFace, u1, v1, alongU, use.to);
+      use.piece = p;
+      use.side = side;
     }
+  });
+  tbb::parallel_sort(uses_.begin(), uses_.end(), [](const SideUse& a, const SideUse& b) {
+    if (a.line < b.line) return true;
+    if (b.line < a.line) return false;
+    return a.piece < b.piece || (a.piece == b.piece && a.side < b.side);
+  });
+  sideUse_.resize(uses_.size());
+  useLine_.resize(uses_.size());
+  lines_.clear();
+  for (uint32_t u = 0; u < uses_.size(); ++u) {
+    if (u == 0 || !(uses_[u].line == uses_[u - 1].line)) lines_.push_back({u, 0, 0});
+    ++lines_.back().useCount;
+    useLine_[u] = uint32_t(lines_.size() - 1);
+    sideUse_[4 * size_t(uses_[u].piece) + uses_[u].side] = u;
   }
 }
 
@@ -175,45 +194,53 @@ void Tessellator::collectSides() {
 // covering it needs (its level scaled to the interval's share of the side). Lines are independent
 // and resolved on all cores; their vertices are numbered in key order afterwards.
 void Tessellator::resolveLines() {
-  std::vector<std::pair<const DomainKey*, Line*>> ordered;
-  ordered.reserve(lines_.size());
-  for (auto& [key, line] : lines_) ordered.push_back({&key, &line});
-  tbb::parallel_for(size_t(0), ordered.size(), [&](size_t l) {
-    Line& line = *ordered[l].second;
-    for (const SideUse& use : line.uses) {
-      line.breaks.push_back(use.from);
-      line.breaks.push_back(use.to);
+  breaks_.resize(2 * uses_.size());
+  levels_.resize(2 * uses_.size());
+  owners_.resize(2 * uses_.size());
+  interiorFirst_.resize(2 * uses_.size());
+  tbb::parallel_for(size_t(0), lines_.size(), [&](size_t l) {
+    Line& line = lines_[l];
+    const SideUse* uses = uses_.data() + line.firstUse;
+    double* breaks = breaks_.data() + 2 * size_t(line.firstUse);
+    for (uint32_t u = 0; u < line.useCount; ++u) {
+      breaks[2 * u] = uses[u].from;
+      breaks[2 * u + 1] = uses[u].to;
     }
-    std::sort(line.breaks.begin(), line.breaks.end());
-    line.breaks.erase(std::unique(line.breaks.begin(), line.breaks.end()), line.breaks.end());
-    const size_t intervals = line.breaks.size() - 1;
-    line.levels.assign(intervals, 1);
-    line.interiorVertices.resize(intervals);
-    line.owner.assign(intervals, -1);
-    for (size_t u = 0; u < line.uses.size(); ++u) {
-      const SideUse& use = line.uses[u];
+    std::sort(breaks, breaks + 2 * line.useCount);
+    line.breakCount = uint32_t(std::unique(breaks, breaks + 2 * line.useCount) - breaks);
+    const uint32_t intervals = line.breakCount - 1;
+    int* levels = levels_.data() + 2 * size_t(line.firstUse);
+    int* owners = owners_.data() + 2 * size_t(line.firstUse);
+    std::fill(levels, levels + intervals, 1);
+    std::fill(owners, owners + intervals, -1);
+    for (uint32_t u = 0; u < line.useCount; ++u) {
+      const SideUse& use = uses[u];
       double lo = std::min(use.from, use.to), hi = std::max(use.from, use.to);
       int level = plan_.pieces[use.piece].level;
-      for (size_t i = 0; i < intervals; ++i) {
-        if (line.breaks[i] < lo || line.breaks[i + 1] > hi) continue;
-        double share = (line.breaks[i + 1] - line.breaks[i]) / (hi - lo);
-        line.levels[i] = std::max(line.levels[i], int(std::ceil(level * share - 1e-9)));
-        if (line.owner[i] < 0) line.owner[i] = int(u);
+      for (uint32_t i = 0; i < intervals; ++i) {
+        if (breaks[i] < lo || breaks[i + 1] > hi) continue;
+        double share = (breaks[i + 1] - breaks[i]) / (hi - lo);
+        levels[i] = std::max(levels[i], int(std::ceil(level * share - 1e-9)));
+        if (owners[i] < 0) owners[i] = int(u);
       }
     }
   });
-  for (const auto& entry : ordered) numberLineVertices(*entry.second);
+  for (const Line& line : lines_) numberLineVertices(line);
 }
 
-void Tessellator::numberLineVertices(Line& line) {
-  for (size_t i = 0; i < line.levels.size(); ++i) {
-    if (line.owner[i] < 0) continue;
-    const SideUse& use = line.uses[line.owner[i]];
-    for (int k = 1; k < line.levels[i]; ++k) {
-      double parameter = line.breaks[i] + (line.breaks[i + 1] - line.breaks[i]) * k / line.levels[i];
+void Tessellator::numberLineVertices(const Line& line) {
+  const size_t first = 2 * size_t(line.firstUse);
+  const double* breaks = breaks_.data() + first;
+  for (uint32_t i = 0; i + 1 < line.breakCount; ++i) {
+    if (owners_[first + i] < 0) continue;
+    const SideUse& use = uses_[line.firstUse + owners_[first + i]];
+    const int level = levels_[first + i];
+    for (int k = 1; k < level; ++k) {
+      double parameter = breaks[i] + (breaks[i + 1] - breaks[i]) * k / level;
       double s, t;
       sidePoint(use.side, (parameter - use.from) / (use.to - use.from), s, t);
-      line.interiorVertices[i].push_back(vertexAt(use.piece, s, t));
+      const uint32_t vertex = vertexAt(use.piece, s, t);
+      if (k == 1) interiorFirst_[first + i] = vertex;
     }
   }
 }
@@ -229,8 +256,12 @@ uint32_t Tessellator::vertexAt(uint32_t p, double s, double t) {
 template <typename PointIndex>
 void Tessellator::sideVertices(uint32_t p, int side, PointIndex&& pointIndex,
                                std::vector<Corner>& result) const {
-  const Line& line = *pieceSides_[p][side].line;
-  const SideUse& use = line.uses[pieceSides_[p][side].use];
+  const uint32_t u = sideUse_[4 * size_t(p) + side];
+  const SideUse& use = uses_[u];
+  const Line& line = lines_[useLine_[u]];
+  const size_t first = 2 * size_t(line.firstUse);
+  const double* breaks = breaks_.data() + first;
+  const int* levels = levels_.data() + first;
   result.clear();
   double lo = std::min(use.from, use.to), hi = std::max(use.from, use.to);
   auto corner = [&](uint32_t vertex, double parameter) {
@@ -239,15 +270,15 @@ void Tessellator::sideVertices(uint32_t p, int side, PointIndex&& pointIndex,
     return c;
   };
   // Breaks are sorted: the side's intervals start at lo (a line can carry thousands of them).
-  const size_t first = size_t(std::lower_bound(line.breaks.begin(), line.breaks.end(), lo) -
-                              line.breaks.begin());
-  for (size_t i = first; i + 1 < line.breaks.size() && line.breaks[i + 1] <= hi; ++i) {
-    Corner start = corner(0, line.breaks[i]);
+  const size_t count = line.breakCount;
+  for (size_t i = size_t(std::lower_bound(breaks, breaks + count, lo) - breaks);
+       i + 1 < count && breaks[i + 1] <= hi; ++i) {
+    Corner start = corner(0, breaks[i]);
     start.vertex = pointIndex(start.s, start.t);
     result.push_back(start);
-    for (int k = 1; k < line.levels[i]; ++k) {
-      double parameter = line.breaks[i] + (line.breaks[i + 1] - line.breaks[i]) * k / line.levels[i];
-      result.push_back(corner(line.interiorVertices[i][k - 1], parameter));
+    for (int k = 1; k < levels[i]; ++k) {
+      double parameter = breaks[i] + (breaks[i + 1] - breaks[i]) * k / levels[i];
+      result.push_back(corner(interiorFirst_[first + i] + uint32_t(k - 1), parameter));
     }
   }
   Corner end = corner(0, hi);
