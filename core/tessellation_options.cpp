@@ -12,12 +12,16 @@ namespace {
 bool finite(const Vec3d& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace
 
+void validateUniformLevel(int p) {
+  if (p < 1 || p > kMaxUniformLevel) {
+    throwInvalid("level must be between 1 and " + std::to_string(kMaxUniformLevel) + ", got " +
+                 std::to_string(p));
+  }
+}
+
 void validateTessellationOptions(const TessellationOptions& o) {
   if (o.uniformLevel != 0) {
-    if (o.uniformLevel < 1 || o.uniformLevel > kMaxUniformLevel) {
-      throwInvalid("level must be between 1 and " + std::to_string(kMaxUniformLevel) + ", got " +
-                   std::to_string(o.uniformLevel));
-    }
+    validateUniformLevel(o.uniformLevel);
     return;
   }
   if (!std::isfinite(o.tolerance) || o.tolerance <= 0) {

@@ -37,4 +37,7 @@ struct TessellationOptions {
 // 1..4096.
 void validateTessellationOptions(const TessellationOptions& options);
 
+// Throws TesseraError (kInvalidInput) unless 1 <= p <= kMaxUniformLevel.
+void validateUniformLevel(int p);
+
 }  // namespace tessera

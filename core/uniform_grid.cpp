@@ -9,10 +9,9 @@
 #include <atomic>
 #include <map>
 #include <mutex>
-#include <string>
 
 #include "core/bicubic.h"
-#include "core/error.h"
+#include "core/tessellation_options.h"
 #include "core/ring_refinement.h"
 #include "core/uniform_levels.h"
 
@@ -284,13 +283,9 @@ void placeSamples(const std::vector<GridPiece>& pieces, std::vector<size_t>& off
 }  // namespace
 
 void planUniformGrid(const PatchSet& patches, int p, UniformGrid& grid) {
-  if (p < 1 || p > kMaxUniformLevel) {
-    throwInvalid("level must be between 1 and " + std::to_string(kMaxUniformLevel) + ", got " +
-                 std::to_string(p));
-  }
+  validateUniformLevel(p);
   const RegularPatches& regular = patches.regular;
   const RingSet& rings = patches.rings;
-  grid.level = p;
   grid.regularPieces = regular.size();
   grid.ringFirst.resize(rings.size() + 1);
   size_t next = regular.size();

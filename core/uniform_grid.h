@@ -25,7 +25,6 @@ struct GridPiece {
 
 // Refers to the nets of the patch set it was planned from: keep that alive while using it.
 struct UniformGrid {
-  int level = 0;  // p
   size_t regularPieces = 0;
   // Piece q's net is regular.bspline[q] below regularPieces, else ringNets[q - regularPieces].
   std::vector<GridPiece> pieces;

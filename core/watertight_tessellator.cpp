@@ -287,7 +287,9 @@ void Tessellator::sideVertices(uint32_t p, int side, PointIndex&& pointIndex,
   if (use.from > use.to) std::reverse(result.begin(), result.end());  // side runs against the line
 }
 
+// A piece's inner grid: (N−1)² points at (i/N, j/N), i, j = 1 … N−1; with N = 1 one centre point.
 int innerSide(int level) { return std::max(level - 1, 1); }
+double gridStep(int level) { return level == 1 ? 0.5 : 1.0 / level; }
 
 // Pieces of one run, on any thread: the domain points their sides end at, each registered in
 // points_ with the smallest piece that has it as owner.
@@ -348,7 +350,7 @@ void Tessellator::numberPieces() {
       gridFirst_[p] = uint32_t(requests_.size());
       if (trianglePair_[p]) continue;
       const int level = plan_.pieces[p].level, inner = innerSide(level);
-      const double step = level == 1 ? 0.5 : 1.0 / level;
+      const double step = gridStep(level);
       for (int j = 0; j < inner; ++j) {
         for (int i = 0; i < inner; ++i) vertexAt(p, (i + 1) * step, (j + 1) * step);
       }
@@ -374,9 +376,8 @@ void Tessellator::triangulatePiece(uint32_t p, PointEntry* const* visits, Sides&
     emitTriangle(sides[0][0], sides[1][1], sides[2][1], p, out);
     return;
   }
-  // Inner grid: (n-1)² points at (i/n, j/n); with n == 1 a single centre point.
   const int inner = innerSide(n);
-  const double step = n == 1 ? 0.5 : 1.0 / n;
+  const double step = gridStep(n);
   auto at = [&](int i, int j) {
     return Corner{gridFirst_[p] + uint32_t(j * inner + i), 0, (i + 1) * step, (j + 1) * step};
   };
