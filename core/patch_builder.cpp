@@ -11,6 +11,7 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/ptexIndices.h>
 
+#include "core/adaptive_surface.h"
 #include "core/error.h"
 #include "core/far_topology.h"
 #include "core/ring_extraction.h"
@@ -273,6 +274,10 @@ PatchSet PatchSetBuilder::build() {
     hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
   }
   result_.boundsMin = lo, result_.boundsMax = hi;
+  auto surface = std::make_shared<AdaptiveSurface>();
+  surface->tree = buildSurfaceTree(result_, mesh_);
+  surface->seams = SeamTopology(mesh_);
+  result_.adaptive = std::move(surface);
   return std::move(result_);
 }
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/cer_layout.h"
@@ -80,11 +81,15 @@ struct PatchSetStats {
   int holes = 0;
 };
 
+struct AdaptiveSurface;  // core/adaptive_surface.h
+
 struct PatchSet {
   RegularPatches regular;
   RingSet rings;
   PatchSetStats stats;
   Vec3 boundsMin, boundsMax;
+  // The surface tree and seams the adaptive tessellation plans over (built with the patch set).
+  std::shared_ptr<const AdaptiveSurface> adaptive;
 };
 
 // Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).

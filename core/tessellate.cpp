@@ -1,8 +1,11 @@
 #include "core/tessellate.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
+#include "core/adaptive_surface.h"
+#include "core/adaptive_tessellator.h"
 #include "core/error.h"
 #include "core/tessellation_plan.h"
 
@@ -12,10 +15,44 @@ namespace {
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
+
+// The user path for a tolerance: tiles over the surface tree (docs/ADAPTIVE.md).
+TessellationResult tessellateToTolerance(const PatchSet& patches, const TessellationOptions& options) {
+  const AdaptiveSurface& surface = *patches.adaptive;
+  auto start = std::chrono::steady_clock::now();
+  const AdaptivePlan plan = planAdaptive(surface.tree, patches, options);
+  TessellationResult result;
+  result.summary.planMs = millisecondsSince(start);
+  if (plan.gridTriangles > options.maxTriangles) {
+    throwLimit("the request would produce about " + std::to_string(plan.gridTriangles) +
+               " triangles, over the budget of " + std::to_string(options.maxTriangles) +
+               "; raise the tolerance or the triangle budget");
+  }
+  start = std::chrono::steady_clock::now();
+  result.mesh = tessellateAdaptive(patches, surface, plan, options.checkpoint);
+  result.summary.tessellateMs = millisecondsSince(start);
+  TessellationSummary& s = result.summary;
+  s.triangles = int64_t(result.mesh.triangleCount());
+  s.vertices = int64_t(result.mesh.positions.size());
+  s.pieces = int64_t(plan.tiles.size());
+  s.rings = int(patches.rings.size());
+  long levels = 0;
+  for (const Tile& tile : plan.tiles) {
+    levels += tile.level;
+    s.maxDepth = std::max(s.maxDepth, tile.level);
+  }
+  s.averageDepth = plan.tiles.empty() ? 0.0 : double(levels) / double(plan.tiles.size());
+  s.guaranteedBound = plan.guaranteedBound;
+  s.tolerance = plan.tiles.empty() ? 0.0 : plan.tolerance;
+  return result;
+}
+
 }  // namespace
 
 TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
                               const TessellationOptions& options) {
+  validateTessellationOptions(options);
+  if (options.uniformLevel == 0 && options.eta > 0 && patches.adaptive) return tessellateToTolerance(patches, options);
   auto start = std::chrono::steady_clock::now();
   TessellationPlan plan = planTessellation(patches, options);
   TessellationResult result;

@@ -14,60 +14,12 @@
 #include "core/innermost_patch.h"
 #include "core/ring_patches.h"
 #include "core/ring_refinement.h"
+#include "core/tolerance_model.h"
 #include "core/uniform_levels.h"
 
 namespace tessera {
 
 namespace {
-
-// Object-space tolerance for a piece of geometry: ε itself, or ε from the camera (MATH.md §4):
-// ε_obj = px · z / (f_px · √(1 + tan²(φx/2) + tan²(φy/2))) at the piece's nearest depth z
-// (convex hull of its control points), z reduced by ε_obj itself, clamped at a near plane.
-class ToleranceModel {
- public:
-  ToleranceModel(const TessellationOptions& options, const PatchSet& patches) : options_(options) {
-    double diagonal = length(Vec3d(patches.boundsMax) - Vec3d(patches.boundsMin));
-    epsilon_ = options.relativeTolerance ? options.tolerance * diagonal : options.tolerance;
-    if (!options.camera) return;
-    const Camera& c = *options.camera;
-    forward_ = c.target - c.eye;
-    forward_ = forward_ * (1.0 / length(forward_));
-    double tanY = std::tan(c.fovYDegrees * M_PI / 360.0);
-    double tanX = tanY * c.width / c.height;
-    double focal = c.height / (2.0 * tanY);
-    pixelScale_ = options.pixelAccuracy / (focal * std::sqrt(1 + tanX * tanX + tanY * tanY));
-    near_ = 1e-2 * length(c.target - c.eye);
-  }
-
-  double forPoints(const Vec3* points, int count) const {
-    if (!options_.camera) return epsilon_;
-    double nearest = INFINITY;
-    for (int i = 0; i < count; ++i) nearest = std::min(nearest, depthOf(points[i]));
-    return atDepth(nearest);
-  }
-
-  // A stored ring: xyz floats relative to its centre.
-  double forRing(const float* ring, int count, Vec3 center) const {
-    if (!options_.camera) return epsilon_;
-    double nearest = INFINITY;
-    for (int i = 0; i < count; ++i)
-      nearest =
-          std::min(nearest, depthOf(Vec3(ring[3 * i], ring[3 * i + 1], ring[3 * i + 2]) + center));
-    return atDepth(nearest);
-  }
-
- private:
-  double depthOf(Vec3 point) const { return dot(Vec3d(point) - options_.camera->eye, forward_); }
-  double atDepth(double nearest) const {
-    double k = pixelScale_;
-    return k * std::max(nearest, near_) / (1.0 + k);
-  }
-
-  const TessellationOptions& options_;
-  double epsilon_ = 0;
-  Vec3d forward_;
-  double pixelScale_ = 0, near_ = 0;
-};
 
 // M_uu + 2 M_uv + M_vv of a bicubic Bézier from its second differences (MATH.md §4).
 double curvatureBound(const Vec3* b) {

@@ -1,5 +1,7 @@
 #include "server/patch_set_cache.h"
 
+#include "core/adaptive_surface.h"
+
 #include <vector>
 
 namespace tessera::server {
@@ -17,7 +19,8 @@ size_t bytesOf(const PatchSet& set) {
   return sizeof(PatchSet) + bytesOf(g.bspline) + bytesOf(g.domains) + bytesOf(g.levels) +
          bytesOf(r.shapes) + bytesOf(r.cornerEv) + bytesOf(r.levels) + bytesOf(r.pointOffsets) +
          bytesOf(r.points) + bytesOf(r.centers) + bytesOf(r.spokeOffsets) + bytesOf(r.sharpSpokes) +
-         bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned);
+         bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned) +
+         (set.adaptive ? set.adaptive->bytes() : 0);
 }
 
 }  // namespace

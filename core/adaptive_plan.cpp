@@ -1,0 +1,338 @@
+#include "core/adaptive_plan.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/tolerance_model.h"
+
+namespace tessera {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// How far below a leaf piece de Casteljau may split it, and the deepest tile level at all
+// (tile coordinates stay exact integers).
+constexpr int kMaxSplitBelowLeaf = 16;
+constexpr int kMaxTileLevel = 48;
+
+struct Rates {
+  int ru = 1, rv = 1;
+  double bound = kInfinity;
+  bool feasible() const { return bound < kInfinity; }
+  int64_t triangles() const { return 2 * int64_t(ru) * rv; }
+};
+
+// The fewest cells ru · rv with (w² M_uu + 2 w h M_uv + h² M_vv) / 8 ≤ ε for w = s/ru, h = s/rv
+// (docs/ADAPTIVE.md §2): for each ru the smallest rv solves a quadratic in 1/rv.
+Rates ratesFor(const Curvature& m, double size, double epsilon) {
+  Rates best;
+  if (!m.finite() || !(epsilon > 0)) return best;
+  const double a = m.uu * size * size, b = m.uv * size * size, c = m.vv * size * size;
+  const double target = 8 * epsilon;
+  int64_t bestCells = std::numeric_limits<int64_t>::max();
+  for (int ru = 1; ru <= kMaxTileRate && ru < bestCells; ++ru) {
+    const double k = target - a / (double(ru) * ru);
+    if (k <= 0) continue;
+    double rvReal = 1;
+    if (c > 0) {
+      const double y = (-b / ru + std::sqrt(b * b / (double(ru) * ru) + c * k)) / c;
+      rvReal = 1 / y;
+    } else if (b > 0) {
+      rvReal = 2 * b / (k * ru);
+    }
+    int rv = std::max(1, int(std::ceil(std::min(rvReal, double(kMaxTileRate + 1)) - 1e-9)));
+    while (rv <= kMaxTileRate && interpolationBound(m, size / ru, size / rv) > epsilon) ++rv;
+    if (rv > kMaxTileRate) continue;
+    const int64_t cells = int64_t(ru) * rv;
+    if (cells < bestCells || (cells == bestCells && std::abs(ru - rv) < std::abs(best.ru - best.rv))) {
+      bestCells = cells;
+      best = {ru, rv, interpolationBound(m, size / ru, size / rv)};
+    }
+  }
+  return best;
+}
+
+// The (1, 1) grid's bound for an exact piece (SurfaceNode::pairBound with r = 0, plus the
+// largest side bow).
+double exactPairWithBows(const BezierNet& net) {
+  Vec3d corners[4];
+  for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
+  const Vec3d twist = corners[0] - corners[1] + corners[2] - corners[3];
+  double bow = 0;
+  for (int side = 0; side < 4; ++side) {
+    int from, to;
+    sideCorners(side, from, to);
+    bow = std::max(bow, sideChordDistance(net, side, corners[from], corners[to]));
+  }
+  return (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4 + bow) * (1 + 1e-9);
+}
+
+// Corner c of a square: which side it lies on along u and along v.
+int cornerU(int c) { return c == 1 || c == 2 ? 1 : 0; }
+int cornerV(int c) { return c >= 2 ? 1 : 0; }
+
+// Whether descendant square `n` of tile square `t` lies in the closed corner cell of t's corner
+// c for ru × rv cells, in exact integer arithmetic.
+bool insideCornerCell(const NodeSquare& n, const NodeSquare& t, int c, int ru, int rv) {
+  const int d = n.level - t.level;
+  const int64_t span = int64_t(1) << d;
+  const int64_t a = int64_t(n.ix - (t.ix << d)), b = int64_t(n.iy - (t.iy << d));
+  const bool inU = cornerU(c) == 0 ? (a + 1) * ru <= span : a * ru >= (ru - 1) * span;
+  const bool inV = cornerV(c) == 0 ? (b + 1) * rv <= span : b * rv >= (rv - 1) * span;
+  return inU && inV;
+}
+
+class Planner {
+ public:
+  Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
+      : tree_(tree), patches_(patches), options_(options), tolerance_(options, patches) {}
+  void planRoot(uint32_t rootNode, std::vector<Tile>& out) const;
+
+ private:
+  struct Candidate {
+    NodeSquare real;
+    int level = 0;
+    uint64_t ix = 0, iy = 0;
+    bool below = false;  // a de Casteljau quadrant below the leaf `real`
+    BezierNet net;       // its net, when below
+    Curvature m;          // exact curvature bound (infinite around an EV)
+    double standIn = 0;    // r of the stand-in g, and g's curvature
+    Curvature gm;
+    double pairWithBows = 0;  // the (1, 1) grid's bound whatever points its sides get
+    float lo[3], hi[3];
+    double size() const { return std::ldexp(1.0, -level); }
+  };
+  Candidate realCandidate(const NodeSquare& n) const;
+  Candidate quadrantCandidate(const Candidate& parent, const BezierNet& parentNet, int q) const;
+  bool splittable(const Candidate& c) const;
+  void split(const Candidate& c, Candidate children[4]) const;
+  Rates gridFor(const Candidate& c) const;
+  Rates evGridFor(const NodeSquare& n, double epsilon) const;
+  double evTileBound(const NodeSquare& n, int ru, int rv) const;
+  Curvature outsideCorners(const NodeSquare& n, const NodeSquare& tile, int ru, int rv) const;
+  void plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
+  void emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
+  double epsilonOf(const Candidate& c) const { return tolerance_.forBox(c.lo, c.hi); }
+
+  const SurfaceTree& tree_;
+  const PatchSet& patches_;
+  const TessellationOptions& options_;
+  const ToleranceModel tolerance_;
+};
+
+Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
+  const SurfaceNode& node = tree_.nodes[n.node];
+  Candidate c;
+  c.real = n;
+  c.level = n.level, c.ix = n.ix, c.iy = n.iy;
+  c.m = node.evCorners ? Curvature{kInfinity, kInfinity, kInfinity} : node.bound();
+  c.standIn = node.standInBound;
+  c.gm = node.standInCurvatureBound();
+  c.pairWithBows = double(node.pairBound) + *std::max_element(node.sideBow, node.sideBow + 4);
+  std::copy(node.boxMin, node.boxMin + 3, c.lo);
+  std::copy(node.boxMax, node.boxMax + 3, c.hi);
+  return c;
+}
+
+Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const BezierNet& parentNet, int q) const {
+  Candidate c;
+  c.real = parent.real;
+  c.level = parent.level + 1;
+  c.ix = 2 * parent.ix + uint64_t(q & 1), c.iy = 2 * parent.iy + uint64_t(q >> 1);
+  c.below = true;
+  c.net = quadrantNet(parentNet, q & 1, q >> 1);
+  c.m = netCurvature(c.net.data()).scaled(std::ldexp(1.0, 2 * c.level));
+  c.standIn = 0;
+  c.gm = c.m;
+  c.pairWithBows = exactPairWithBows(c.net);
+  for (int a = 0; a < 3; ++a) {
+    double lo = c.net[0][a], hi = lo;
+    for (const Vec3d& p : c.net) lo = std::min(lo, p[a]), hi = std::max(hi, p[a]);
+    c.lo[a] = std::nextafter(float(lo), -INFINITY), c.hi[a] = std::nextafter(float(hi), INFINITY);
+  }
+  return c;
+}
+
+bool Planner::splittable(const Candidate& c) const {
+  const SurfaceNode& node = tree_.nodes[c.real.node];
+  if (node.kind == NodeKind::kEvBottom) return false;
+  if (!node.isLeaf() && !c.below) return true;
+  return c.level < kMaxTileLevel && c.level - c.real.level < kMaxSplitBelowLeaf;
+}
+
+void Planner::split(const Candidate& c, Candidate children[4]) const {
+  const SurfaceNode& node = tree_.nodes[c.real.node];
+  if (!c.below && !node.isLeaf()) {
+    for (int q = 0; q < 4; ++q) children[q] = realCandidate(c.real.child(tree_, q));
+    return;
+  }
+  const BezierNet net = c.below ? c.net : pieceNet(tree_, patches_, c.real.node);
+  for (int q = 0; q < 4; ++q) children[q] = quadrantCandidate(c, net, q);
+}
+
+// The part of descendant `n` of an EV tile outside the tile's open corner cells: its curvature
+// bound, walking down only the nodes that hold an EV (the others' bounds are finite).
+Curvature Planner::outsideCorners(const NodeSquare& n, const NodeSquare& tile, int ru, int rv) const {
+  const SurfaceNode& tileNode = tree_.nodes[tile.node];
+  for (int c = 0; c < 4; ++c) {
+    if ((tileNode.evCorners >> c & 1) && insideCornerCell(n, tile, c, ru, rv)) return {};
+  }
+  const SurfaceNode& node = tree_.nodes[n.node];
+  if (node.evCorners == 0) return node.bound();
+  if (node.isLeaf()) return {kInfinity, kInfinity, kInfinity};
+  Curvature m;
+  for (int q = 0; q < 4; ++q) m = m.max(outsideCorners(n.child(tree_, q), tile, ru, rv));
+  return m;
+}
+
+// docs/ADAPTIVE.md §4: triangles that miss every open corner cell [0, w) × [0, h) at an EV
+// corner lie where the curvature is bounded; a triangle that meets one lies in the doubled
+// cell [0, 2w] × [0, 2h], inside the smallest EV node N'' holding that, whose stand-in g gives
+// ‖f − L‖ ≤ 2 r + (w² M_uu(g) + 2 w h M_uv(g) + h² M_vv(g)) / 8.
+double Planner::evTileBound(const NodeSquare& n, int ru, int rv) const {
+  const double w = n.size() / ru, h = n.size() / rv;
+  const SurfaceNode& node = tree_.nodes[n.node];
+  // Every triangle lies in the tile itself, so its own stand-in always bounds it.
+  const double standIn = 2.0 * node.standInBound + interpolationBound(node.standInCurvatureBound(), w, h);
+  const Curvature outside = outsideCorners(n, n, ru, rv);
+  double bound = outside.finite() ? interpolationBound(outside, w, h) : kInfinity;
+  for (int c = 0; c < 4 && bound < standIn; ++c) {
+    if (!(node.evCorners >> c & 1)) continue;
+    NodeSquare holder = n;
+    // The child at depth d holds the doubled cell when 2^-d >= 2/ru and 2/rv.
+    for (int depth = 1; ru >= (1 << (depth + 1)) && rv >= (1 << (depth + 1)); ++depth) {
+      if (tree_.nodes[holder.node].isLeaf()) break;
+      const NodeSquare child = holder.child(tree_, quadrantOfCorner(c));
+      if (!(tree_.nodes[child.node].evCorners >> c & 1)) break;
+      holder = child;
+    }
+    const SurfaceNode& at = tree_.nodes[holder.node];
+    bound = std::max(bound, 2.0 * at.standInBound + interpolationBound(at.standInCurvatureBound(), w, h));
+  }
+  return std::min(bound, standIn);
+}
+
+// Rates for a tile holding EVs from the curvature outside the corner cells (which grows as the
+// cells shrink, so iterate to a fixed point) and the corner terms; doubling the rates moves the
+// corner cells into deeper EV nodes with tighter stand-ins.
+Rates Planner::evGridFor(const NodeSquare& n, double epsilon) const {
+  int ru = 1, rv = 1;
+  for (int step = 0; step < 24; ++step) {
+    const Curvature outside = outsideCorners(n, n, ru, rv);
+    if (outside.finite()) {
+      const Rates r = ratesFor(outside, n.size(), epsilon);
+      if (!r.feasible()) return {};
+      if (r.ru <= ru && r.rv <= rv) break;
+      ru = std::max(ru, r.ru), rv = std::max(rv, r.rv);
+    } else {
+      ru *= 2, rv *= 2;
+    }
+    if (ru > kMaxTileRate || rv > kMaxTileRate) return {};
+  }
+  for (int attempt = 0; attempt < 3 && ru <= kMaxTileRate && rv <= kMaxTileRate; ++attempt) {
+    const double bound = evTileBound(n, ru, rv);
+    if (bound <= epsilon) return {ru, rv, bound};
+    ru *= 2, rv *= 2;
+  }
+  return {};
+}
+
+// The fewest triangles any of the bounds allows (docs/ADAPTIVE.md §2-4): the triangle pair
+// through the corners, the curvature bound, the stand-in (2r + its curvature bound), and
+// around EVs the corner cells.
+Rates Planner::gridFor(const Candidate& c) const {
+  const double epsilon = epsilonOf(c);
+  if (c.pairWithBows <= epsilon) return {1, 1, c.pairWithBows};
+  Rates best;
+  auto consider = [&best](const Rates& r) {
+    if (!r.feasible()) return;
+    if (!best.feasible() || r.triangles() < best.triangles() ||
+        (r.triangles() == best.triangles() && r.bound < best.bound)) {
+      best = r;
+    }
+  };
+  if (!c.below && tree_.nodes[c.real.node].evCorners) {
+    consider(evGridFor(c.real, epsilon));
+  } else {
+    consider(ratesFor(c.m, c.size(), epsilon));
+  }
+  if (c.standIn > 0 && epsilon > 2 * c.standIn) {
+    Rates r = ratesFor(c.gm, c.size(), epsilon - 2 * c.standIn);
+    if (r.feasible()) r.bound += 2 * c.standIn;
+    consider(r);
+  }
+  return best;
+}
+
+void Planner::emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const {
+  Tile tile;
+  tile.node = c.real;
+  tile.level = c.level, tile.ix = c.ix, tile.iy = c.iy;
+  tile.ru = grid.ru, tile.rv = grid.rv;
+  tile.bound = float(grid.bound);
+  tile.tolerance = float(epsilonOf(c));
+  out.push_back(tile);
+}
+
+// A node becomes a tile unless its four quadrants, each tessellated on its own, need fewer
+// triangles (one level of look-ahead); a node no grid can serve is always split.
+void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const {
+  if ((grid.feasible() && grid.triangles() <= 8) || !splittable(c)) {
+    if (grid.feasible()) return emit(c, grid, out);
+    // Nothing finer exists (the deepest EV quadrant below kChainFloor): the finest grid, its
+    // bound reported as it is.
+    const NodeSquare& n = c.real;
+    const double bound = c.below || !tree_.nodes[n.node].evCorners
+                             ? interpolationBound(c.m, c.size() / kMaxTileRate, c.size() / kMaxTileRate)
+                             : evTileBound(n, kMaxTileRate, kMaxTileRate);
+    return emit(c, {kMaxTileRate, kMaxTileRate, bound}, out);
+  }
+  Candidate children[4];
+  split(c, children);
+  Rates childGrids[4];
+  int64_t childTriangles = 0;
+  for (int q = 0; q < 4; ++q) {
+    childGrids[q] = gridFor(children[q]);
+    childTriangles += childGrids[q].feasible() ? childGrids[q].triangles() : std::numeric_limits<int32_t>::max();
+  }
+  if (grid.feasible() && grid.triangles() <= childTriangles) return emit(c, grid, out);
+  for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
+}
+
+void Planner::planRoot(uint32_t rootNode, std::vector<Tile>& out) const {
+  const Candidate root = realCandidate({rootNode, 0, 0, 0});
+  plan(root, gridFor(root), out);
+}
+
+}  // namespace
+
+AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options) {
+  validateTessellationOptions(options);
+  const Planner planner(tree, patches, options);
+  std::vector<std::vector<Tile>> perRoot(tree.roots.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), 16), [&](const auto& range) {
+    if (options.checkpoint) options.checkpoint();
+    for (size_t r = range.begin(); r != range.end(); ++r) {
+      if (tree.roots[r].node != kNoNode) planner.planRoot(tree.roots[r].node, perRoot[r]);
+    }
+  });
+  AdaptivePlan plan;
+  plan.rootFirstTile.reserve(tree.roots.size() + 1);
+  plan.tolerance = kInfinity;
+  for (const std::vector<Tile>& tiles : perRoot) {
+    plan.rootFirstTile.push_back(uint32_t(plan.tiles.size()));
+    for (const Tile& t : tiles) {
+      plan.guaranteedBound = std::max(plan.guaranteedBound, double(t.bound));
+      plan.tolerance = std::min(plan.tolerance, double(t.tolerance));
+      plan.gridTriangles += 2 * int64_t(t.ru) * t.rv;
+    }
+    plan.tiles.insert(plan.tiles.end(), tiles.begin(), tiles.end());
+  }
+  plan.rootFirstTile.push_back(uint32_t(plan.tiles.size()));
+  return plan;
+}
+
+}  // namespace tessera

@@ -1,0 +1,42 @@
+// Adaptive planning (docs/ADAPTIVE.md §3): per root, a cut of the surface tree into tiles, each
+// a square of its root tessellated as an ru × rv grid, with ru, rv and the cut chosen so that a
+// proven bound on the distance between every triangle the tile yields and the exact limit
+// surface stays within the tile's ε, for the fewest triangles the bounds allow. Tiles may span
+// many pieces (a coarse node's curvature bound covers them all); below a leaf piece they are
+// its de Casteljau quadrants.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/surface_evaluation.h"
+#include "core/surface_tree.h"
+#include "core/tessellation_options.h"
+
+namespace tessera {
+
+struct Tile {
+  NodeSquare node;  // the deepest tree node holding the tile (a leaf when the tile lies below one)
+  int level = 0;    // the tile's own square in its root
+  uint64_t ix = 0, iy = 0;
+  int ru = 1, rv = 1;   // cells along u and v
+  float bound = 0;      // proven distance to the limit surface of the triangles it yields
+  float tolerance = 0;  // the ε it was planned for
+
+  double size() const { return std::ldexp(1.0, -level); }
+};
+
+struct AdaptivePlan {
+  std::vector<Tile> tiles;             // root by root, each root's tiles in tree order
+  std::vector<uint32_t> rootFirstTile;  // roots.size() + 1 entries
+  double guaranteedBound = 0;          // max over tiles
+  double tolerance = 0;                // the smallest ε of any tile
+  int64_t gridTriangles = 0;           // Σ 2 ru rv: the triangles before stitching adds any
+};
+
+// Tiles cap their rates at this many cells a side and split beyond.
+inline constexpr int kMaxTileRate = 64;
+
+AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options);
+
+}  // namespace tessera

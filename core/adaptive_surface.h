@@ -1,0 +1,17 @@
+// What the adaptive tessellation caches per mesh beside its patch set: the surface tree and the
+// seams between roots (built once by buildPatchSet).
+#pragma once
+
+#include "core/seam_topology.h"
+#include "core/surface_tree.h"
+
+namespace tessera {
+
+struct AdaptiveSurface {
+  SurfaceTree tree;
+  SeamTopology seams;
+
+  size_t bytes() const;
+};
+
+}  // namespace tessera

@@ -1,0 +1,135 @@
+#include "core/adaptive_tessellator.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include "core/tile_stitching.h"
+#include "core/tile_triangulation.h"
+
+namespace tessera {
+
+size_t AdaptiveSurface::bytes() const {
+  auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  return tree.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
+         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge);
+}
+
+namespace {
+
+// Every vertex on the limit surface, on all cores: positions once per point, then the copies that
+// carry another side's normal take their original's position bit for bit.
+void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
+                      const Stitching& stitching, const std::vector<uint32_t>& tileRoot, TriangleMesh& mesh,
+                      const std::function<void()>& checkpoint) {
+  const size_t count = stitching.vertices.size();
+  mesh.positions.resize(count);
+  mesh.normals.resize(count);
+  mesh.vertexFace.resize(count);
+  mesh.vertexSubFace.resize(count);
+  mesh.vertexUv.resize(2 * count);
+  tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators(surface.tree, patches);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& range) {
+    if (checkpoint) checkpoint();
+    SurfaceEvaluator& evaluator = evaluators.local();
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const VertexRequest& request = stitching.vertices[i];
+      const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
+      mesh.positions[i] = Vec3(sample.position);
+      mesh.normals[i] = Vec3(sample.normal);
+      const SurfaceRoot& root = surface.tree.roots[tileRoot[request.tile]];
+      mesh.vertexFace[i] = root.baseFace;
+      mesh.vertexSubFace[i] = root.subFace;
+      mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
+    }
+  });
+  for (size_t i = 0; i < count; ++i) {
+    if (stitching.vertices[i].positionOf != i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
+  }
+}
+
+// Tiles triangulated on all cores in runs, the runs' triangles concatenated in order.
+void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, TriangleMesh& mesh,
+                      const std::function<void()>& checkpoint) {
+  constexpr size_t kRun = 256;
+  const size_t runs = (plan.tiles.size() + kRun - 1) / kRun;
+  std::vector<std::vector<uint32_t>> indices(runs), tiles(runs);
+  const TriangulationVertices vertices{mesh.positions, mesh.normals};
+  tbb::parallel_for(size_t(0), runs, [&](size_t r) {
+    if (checkpoint) checkpoint();
+    const size_t end = std::min(plan.tiles.size(), (r + 1) * kRun);
+    for (size_t t = r * kRun; t < end; ++t) {
+      const size_t before = indices[r].size();
+      triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, indices[r]);
+      tiles[r].insert(tiles[r].end(), (indices[r].size() - before) / 3, uint32_t(t));
+    }
+  });
+  for (size_t r = 0; r < runs; ++r) {
+    mesh.indices.insert(mesh.indices.end(), indices[r].begin(), indices[r].end());
+    mesh.trianglePiece.insert(mesh.trianglePiece.end(), tiles[r].begin(), tiles[r].end());
+  }
+}
+
+// A fold narrower than the tiles there (the surface turns back within less than ε resolves)
+// shows as triangles facing against a vertex's limit normal. At this tolerance the fold is a
+// crease: those triangles share a copy of the vertex (same position) whose normal is the
+// average of their face normals, or each its own where no average faces all of them.
+void splitFoldNormals(TriangleMesh& mesh) {
+  const TriangulationVertices vertices{mesh.positions, mesh.normals};
+  std::vector<uint32_t> flagged;  // corner 3t + k
+  for (size_t t = 0; 3 * t < mesh.indices.size(); ++t) {
+    const uint32_t* i = &mesh.indices[3 * t];
+    if (!facesAway(vertices, i[0], i[1], i[2])) continue;
+    const Vec3 n = cross(mesh.positions[i[1]] - mesh.positions[i[0]], mesh.positions[i[2]] - mesh.positions[i[0]]);
+    for (int k = 0; k < 3; ++k) {
+      if (dot(n, mesh.normals[i[k]]) < 0) flagged.push_back(uint32_t(3 * t + k));
+    }
+  }
+  if (flagged.empty()) return;
+  std::sort(flagged.begin(), flagged.end(), [&mesh](uint32_t a, uint32_t b) {
+    return mesh.indices[a] < mesh.indices[b] || (mesh.indices[a] == mesh.indices[b] && a < b);
+  });
+  auto faceNormal = [&mesh](uint32_t corner) {
+    const uint32_t* i = &mesh.indices[corner - corner % 3];
+    return Vec3d(cross(mesh.positions[i[1]] - mesh.positions[i[0]], mesh.positions[i[2]] - mesh.positions[i[0]]));
+  };
+  auto copyVertex = [&mesh](uint32_t v, const Vec3d& normal) {
+    mesh.positions.push_back(mesh.positions[v]);
+    mesh.normals.push_back(Vec3(normal * (1 / length(normal))));
+    mesh.vertexFace.push_back(mesh.vertexFace[v]);
+    mesh.vertexSubFace.push_back(mesh.vertexSubFace[v]);
+    mesh.vertexUv.insert(mesh.vertexUv.end(), {mesh.vertexUv[2 * v], mesh.vertexUv[2 * v + 1]});
+    return uint32_t(mesh.positions.size() - 1);
+  };
+  for (size_t first = 0; first < flagged.size();) {
+    const uint32_t v = mesh.indices[flagged[first]];
+    size_t end = first;
+    Vec3d sum;
+    while (end < flagged.size() && mesh.indices[flagged[end]] == v) sum += faceNormal(flagged[end++]);
+    bool shared = length(sum) > 0;
+    for (size_t k = first; k < end && shared; ++k) shared = dot(sum, faceNormal(flagged[k])) > 0;
+    const uint32_t copy = shared ? copyVertex(v, sum) : 0;
+    for (size_t k = first; k < end; ++k) {
+      const Vec3d own = faceNormal(flagged[k]);
+      mesh.indices[flagged[k]] = shared ? copy : (length(own) > 0 ? copyVertex(v, own) : v);
+    }
+    first = end;
+  }
+}
+
+}  // namespace
+
+TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
+                                const std::function<void()>& checkpoint) {
+  const Stitching stitching = stitchTiles(plan, surface.tree, surface.seams, checkpoint);
+  std::vector<uint32_t> tileRoot(plan.tiles.size());
+  for (size_t r = 0; r + 1 < plan.rootFirstTile.size(); ++r) {
+    std::fill(tileRoot.begin() + plan.rootFirstTile[r], tileRoot.begin() + plan.rootFirstTile[r + 1], uint32_t(r));
+  }
+  TriangleMesh mesh;
+  evaluateVertices(patches, surface, plan, stitching, tileRoot, mesh, checkpoint);
+  triangulateTiles(plan, stitching, mesh, checkpoint);
+  splitFoldNormals(mesh);
+  return mesh;
+}
+
+}  // namespace tessera

@@ -1,0 +1,133 @@
+#include "core/bezier_net.h"
+
+namespace tessera {
+
+namespace {
+
+using Matrix4 = std::array<std::array<double, 4>, 4>;
+
+// De Casteljau's halving matrices: the coefficients of the lower and upper half of a cubic.
+constexpr Matrix4 kHalf[2] = {
+    {{{1, 0, 0, 0}, {0.5, 0.5, 0, 0}, {0.25, 0.5, 0.25, 0}, {0.125, 0.375, 0.375, 0.125}}},
+    {{{0.125, 0.375, 0.375, 0.125}, {0, 0.25, 0.5, 0.25}, {0, 0, 0.5, 0.5}, {0, 0, 0, 1}}}};
+
+Matrix4 inverse(Matrix4 a) {
+  Matrix4 inv{};
+  for (int i = 0; i < 4; ++i) inv[i][i] = 1;
+  for (int col = 0; col < 4; ++col) {
+    int pivot = col;
+    for (int r = col + 1; r < 4; ++r) {
+      if (std::abs(a[r][col]) > std::abs(a[pivot][col])) pivot = r;
+    }
+    std::swap(a[col], a[pivot]);
+    std::swap(inv[col], inv[pivot]);
+    const double scale = 1 / a[col][col];
+    for (int k = 0; k < 4; ++k) a[col][k] *= scale, inv[col][k] *= scale;
+    for (int r = 0; r < 4; ++r) {
+      if (r == col) continue;
+      const double f = a[r][col];
+      for (int k = 0; k < 4; ++k) a[r][k] -= f * a[col][k], inv[r][k] -= f * inv[col][k];
+    }
+  }
+  return inv;
+}
+
+// G⁻¹ with G = H_0ᵀH_0 + H_1ᵀH_1.
+const Matrix4& gramInverse() {
+  static const Matrix4 value = [] {
+    Matrix4 g{};
+    for (const Matrix4& h : kHalf) {
+      for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+          for (int k = 0; k < 4; ++k) g[i][j] += h[k][i] * h[k][j];
+        }
+      }
+    }
+    return inverse(g);
+  }();
+  return value;
+}
+
+}  // namespace
+
+BezierNet bilinearNet(const Vec3d corners[4]) {
+  BezierNet out;
+  for (int row = 0; row < 4; ++row) {
+    const double y = row / 3.0;
+    for (int col = 0; col < 4; ++col) {
+      const double x = col / 3.0;
+      out[4 * row + col] = corners[0] * ((1 - x) * (1 - y)) + corners[1] * (x * (1 - y)) +
+                           corners[2] * (x * y) + corners[3] * ((1 - x) * y);
+    }
+  }
+  return out;
+}
+
+double splitNetDistance(const BezierNet& a, const BezierNet& b) {
+  // De Casteljau at 1/2 in both directions lays the four quadrant nets out on one 7 × 7 grid.
+  Vec3d rows[4][7], grid[7][7];
+  for (int r = 0; r < 4; ++r) {
+    Vec3d p[4];
+    for (int c = 0; c < 4; ++c) p[c] = a[4 * r + c] - b[4 * r + c];
+    halveCurve(p, 1, false, rows[r], 1);
+    halveCurve(p, 1, true, rows[r] + 3, 1);
+  }
+  for (int c = 0; c < 7; ++c) {
+    const Vec3d column[4] = {rows[0][c], rows[1][c], rows[2][c], rows[3][c]};
+    Vec3d lower[4], upper[4];
+    halveCurve(column, 1, false, lower, 1);
+    halveCurve(column, 1, true, upper, 1);
+    for (int r = 0; r < 4; ++r) grid[r][c] = lower[r], grid[3 + r][c] = upper[r];
+  }
+  double d2 = 0;
+  for (const auto& row : grid) {
+    for (const Vec3d& p : row) d2 = std::max(d2, dot(p, p));
+  }
+  return std::sqrt(d2);
+}
+
+double sideChordDistance(const BezierNet& net, int side, const Vec3d& from, const Vec3d& to) {
+  static constexpr int kSide[4][4] = {{0, 1, 2, 3}, {3, 7, 11, 15}, {12, 13, 14, 15}, {0, 4, 8, 12}};
+  Vec3d difference[4];
+  for (int i = 0; i < 4; ++i) difference[i] = net[kSide[side][i]] - (from * (1 - i / 3.0) + to * (i / 3.0));
+  double d = 0;
+  for (int half = 0; half < 2; ++half) {
+    Vec3d part[4];
+    halveCurve(difference, 1, half == 1, part, 1);
+    for (const Vec3d& p : part) d = std::max(d, length(p));
+  }
+  return d;
+}
+
+// Nets as matrices N[row][col] (row along v): the quadrant restriction is H_qv N H_quᵀ, so the
+// normal equations read G g G = Σ_k H_qvᵀ C_k H_qu and g = G⁻¹ (Σ_k H_qvᵀ C_k H_qu) G⁻¹.
+BezierNet coarsenNets(const BezierNet quadrants[4]) {
+  BezierNet rhs{};
+  for (int k = 0; k < 4; ++k) {
+    const Matrix4& hu = kHalf[k % 2];
+    const Matrix4& hv = kHalf[k / 2];
+    for (int row = 0; row < 4; ++row) {
+      for (int col = 0; col < 4; ++col) {
+        Vec3d sum;
+        for (int r = 0; r < 4; ++r) {
+          for (int c = 0; c < 4; ++c) sum += quadrants[k][4 * r + c] * (hv[r][row] * hu[c][col]);
+        }
+        rhs[4 * row + col] += sum;
+      }
+    }
+  }
+  const Matrix4& gi = gramInverse();
+  BezierNet out{};
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 4; ++col) {
+      Vec3d sum;
+      for (int r = 0; r < 4; ++r) {
+        for (int c = 0; c < 4; ++c) sum += rhs[4 * r + c] * (gi[row][r] * gi[c][col]);
+      }
+      out[4 * row + col] = sum;
+    }
+  }
+  return out;
+}
+
+}  // namespace tessera

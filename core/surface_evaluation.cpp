@@ -1,0 +1,116 @@
+#include "core/surface_evaluation.h"
+
+#include <cmath>
+
+#include "core/bicubic.h"
+#include "core/fas.h"
+#include "core/ring_patches.h"
+
+namespace tessera {
+
+namespace {
+
+// The domain of a FAS leaf: patch k of its sector at its level.
+PatchDomain fasDomain(const RingSet& rings, const FasLeaf& leaf) {
+  int x0, y0;
+  sectorPatchOrigin(leaf.patch, x0, y0);
+  const double size = std::ldexp(1.0, -leaf.level);
+  return rings.sectorDomains[rings.sectorOffsets[leaf.ring] + leaf.sector].restrict(x0 * size, y0 * size, size);
+}
+
+void gatherFasNet(const RingSet& rings, const FasLeaf& leaf, const float* refined, Vec3 net[16]) {
+  const RingRules rules = rings.rules(leaf.ring);
+  NetSource sources[16];
+  sectorNetSources(rules, leaf.sector, leaf.patch, sources);
+  gatherNet(refined, sources, net);
+  for (int k = 0; k < 16; ++k) net[k] += rings.centers[leaf.ring];
+}
+
+void refineFasLevel(const SurfaceTree& tree, const RingSet& rings, const FasLeaf& leaf,
+                    std::vector<float>& refined) {
+  const RingRules rules = rings.rules(leaf.ring);
+  refined.resize(3 * size_t(rules.shape.refinedPointCount()));
+  refineRingStep<3>(rules, tree.ringAtLevel(rings, leaf.ring, leaf.level - 1), refined.data());
+}
+
+BezierNet bsplineToRootBezier(const Vec3* bspline, const Orientation& orientation) {
+  Vec3d b[16], bezier[16];
+  for (int k = 0; k < 16; ++k) b[k] = Vec3d(bspline[k]);
+  bsplineToBezier(b, bezier);
+  return orientNet(bezier, orientation);
+}
+
+// Piece parameters of a point at (x, y) ∈ [0,1]² of the piece's square in root orientation.
+void pieceParameters(const Orientation& o, double x, double y, double& s, double& t) {
+  s = o.su * x + o.sv * y + (o.su + o.sv < 0 ? 1 : 0);
+  t = o.tu * x + o.tv * y + (o.tu + o.tv < 0 ? 1 : 0);
+}
+
+Vec3d unit(Vec3d n) {
+  const double l = length(n);
+  return l > 0 ? n * (1.0 / l) : Vec3d();
+}
+
+}  // namespace
+
+BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, const float* refined) {
+  const SurfaceNode& node = tree.nodes[index];
+  if (node.kind == NodeKind::kRegularLeaf) {
+    return bsplineToRootBezier(patches.regular.bspline[node.payload].data(),
+                               rootSquareOf(patches.regular.domains[node.payload]).orientation);
+  }
+  const FasLeaf& leaf = tree.fasLeaves[node.payload];
+  std::vector<float> scratch;
+  if (refined == nullptr) {
+    refineFasLevel(tree, patches.rings, leaf, scratch);
+    refined = scratch.data();
+  }
+  Vec3 net[16];
+  gatherFasNet(patches.rings, leaf, refined, net);
+  return bsplineToRootBezier(net, rootSquareOf(fasDomain(patches.rings, leaf)).orientation);
+}
+
+const Vec3* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
+  if (cachedFas_ != fasLeaf) {
+    const FasLeaf& leaf = tree_.fasLeaves[fasLeaf];
+    refineFasLevel(tree_, patches_.rings, leaf, refined_);
+    gatherFasNet(patches_.rings, leaf, refined_.data(), cachedNet_);
+    cachedFas_ = fasLeaf;
+  }
+  return cachedNet_;
+}
+
+SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, double y) {
+  const SurfaceNode& node = tree_.nodes[leaf.node];
+  PatchSample p;
+  Orientation orientation;
+  if (node.kind == NodeKind::kEvBottom) {
+    Vec3d g[16];
+    for (int k = 0; k < 16; ++k) g[k] = Vec3d(tree_.evBottoms[node.payload].g[k]);
+    p = evaluateBezier(g, x, y);
+  } else {
+    const Vec3* bspline;
+    if (node.kind == NodeKind::kRegularLeaf) {
+      bspline = patches_.regular.bspline[node.payload].data();
+      orientation = rootSquareOf(patches_.regular.domains[node.payload]).orientation;
+    } else {
+      bspline = fasNet(node.payload);
+      orientation = rootSquareOf(fasDomain(patches_.rings, tree_.fasLeaves[node.payload])).orientation;
+    }
+    double s, t;
+    pieceParameters(orientation, x, y, s, t);
+    p = evaluateBspline(bspline, s, t);
+  }
+  Vec3d normal = unit(cross(p.dPds, p.dPdt)) * double(orientation.handedness());
+  return {p.position, normal};
+}
+
+SurfaceSample SurfaceEvaluator::evaluate(NodeSquare at, double u, double v) {
+  for (;;) {
+    const double x = std::ldexp(u, at.level) - double(at.ix), y = std::ldexp(v, at.level) - double(at.iy);
+    if (tree_.nodes[at.node].isLeaf()) return evaluateLeaf(at, std::clamp(x, 0.0, 1.0), std::clamp(y, 0.0, 1.0));
+    at = at.child(tree_, (y >= 0.5 ? 2 : 0) + (x >= 0.5 ? 1 : 0));
+  }
+}
+
+}  // namespace tessera

@@ -1,0 +1,524 @@
+#include "core/surface_tree.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "core/bicubic.h"
+#include "core/depth_tables.h"
+#include "core/depth_bound.h"
+#include "core/error.h"
+#include "core/fas.h"
+#include "core/innermost_patch.h"
+#include "core/ring_patches.h"
+#include "core/ring_refinement.h"
+#include "core/surface_evaluation.h"
+
+namespace tessera {
+
+RootSquare rootSquareOf(const PatchDomain& d) {
+  RootSquare sq;
+  const double size = std::abs(d.axisS[0]) + std::abs(d.axisS[1]);
+  const double minU = d.origin[0] + std::min(0.0, d.axisS[0]) + std::min(0.0, d.axisT[0]);
+  const double minV = d.origin[1] + std::min(0.0, d.axisS[1]) + std::min(0.0, d.axisT[1]);
+  sq.level = -std::ilogb(size);
+  if (std::ldexp(1.0, -sq.level) != size) throwUnsupported("internal: a piece is not a dyadic square");
+  sq.ix = uint64_t(std::llround(minU / size));
+  sq.iy = uint64_t(std::llround(minV / size));
+  auto sign = [](double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); };
+  sq.orientation = {sign(d.axisS[0]), sign(d.axisS[1]), sign(d.axisT[0]), sign(d.axisT[1])};
+  return sq;
+}
+
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Rounds a bound up to the next float, so that storing it in single precision keeps it a bound.
+float roundUp(double value) {
+  float f = float(value);
+  return double(f) < value ? std::nextafter(f, kInfinity) : f;
+}
+
+// The corner of a square (in its root) that a piece's (s, t) origin sits on.
+int originCorner(const PatchDomain& d) {
+  const RootSquare sq = rootSquareOf(d);
+  const double size = std::ldexp(1.0, -sq.level);
+  const int cu = d.origin[0] > sq.ix * size ? 1 : 0, cv = d.origin[1] > sq.iy * size ? 1 : 0;
+  return cv ? (cu ? 2 : 3) : (cu ? 1 : 0);
+}
+
+BezierNet toDouble(const Vec3* net) {
+  BezierNet out;
+  for (int k = 0; k < 16; ++k) out[k] = Vec3d(net[k]);
+  return out;
+}
+
+// What the quadtree of a root is built from: regular patches and ring sectors, each a square.
+struct Item {
+  int level;
+  uint64_t ix, iy;
+  bool sector;
+  uint32_t index;  // regular patch, or ring
+  int ringSector;
+};
+
+// Where an EV quadrant sits in its ring: the ring, its sector and the FAS level.
+struct ChainStep {
+  uint32_t ring;
+  int sector, level;
+};
+
+// A node's stand-in and the exact surface values at its corners, passed up while building.
+struct NodeFit {
+  BezierNet g;
+  double r = 0;
+  Vec3d corners[4];
+};
+
+class TreeBuilder {
+ public:
+  TreeBuilder(const PatchSet& patches, const ControlMesh& mesh) : patches_(patches), mesh_(mesh) {}
+  SurfaceTree build();
+
+ private:
+  void makeRoots();
+  void refineRings();
+  std::vector<std::vector<Item>> collectItems() const;
+  uint32_t allocateChildren();
+  void fill(uint32_t slot, int level, uint64_t ix, uint64_t iy, std::vector<Item>& items);
+  void fillChain(uint32_t slot, uint32_t ring, int sector, int chainLevel);
+  NodeFit summarize(uint32_t node, int level);
+  NodeFit summarizeLeaf(SurfaceNode& node, int level) const;
+  NodeFit ringStandIn(const ChainStep& step, int level) const;
+  NodeFit fitChildren(const NodeFit children[4]) const;
+  void setBox(uint32_t node, const ChainStep* step);
+  void setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
+  struct Ancestor {
+    uint32_t node;
+    int level;
+    uint64_t ix, iy;
+  };
+  void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
+  void leafAgainstAncestors(const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
+                            const std::vector<Ancestor>& path);
+  BezierNet leafNet(const SurfaceNode& node) const;
+
+  const PatchSet& patches_;
+  const ControlMesh& mesh_;
+  SurfaceTree tree_;
+  // Per ring, the refined (12n+1) sets of FAS levels 1..chainDepth, for the FAS leaves' nets.
+  std::vector<std::vector<float>> refined_;
+  std::vector<ChainStep> chainSteps_;  // EV quadrants being built: node index → step
+  std::vector<int32_t> chainOf_;
+
+  // While building: each node's exact corner values, and the direct pair bounds and side bows
+  // gathered leaf by leaf (docs/ADAPTIVE.md §3).
+  std::vector<std::array<Vec3d, 4>> corners_;
+  std::vector<double> pair_;
+  std::vector<std::array<double, 4>> bow_;
+  double floor_ = 0;
+};
+
+void TreeBuilder::makeRoots() {
+  tree_.faceFirstRoot.resize(mesh_.faceCount());
+  for (int f = 0; f < mesh_.faceCount(); ++f) {
+    tree_.faceFirstRoot[f] = int(tree_.roots.size());
+    const int size = mesh_.faceSizes[f];
+    for (int k = 0; k < (size == 4 ? 1 : size); ++k) tree_.roots.push_back({f, size == 4 ? -1 : k, kNoNode});
+  }
+}
+
+// The bound of ring r's ACC-1 stand-in after `level` FAS steps, from the depth tables (c_m·‖Q₀‖)
+// or the refined ring itself (c₀·‖Q_m‖, or the hull bound for kinds without tables).
+double standInBound(const RingSet& rings, size_t r, const float* ringAtLevel, int level) {
+  const RingRules rules = rings.rules(r);
+  double bound = boundAtDepth(rules, ringAtLevel, 0);
+  if (depthCoefficients(rules) != nullptr) bound = std::min(bound, boundAtDepth(rules, rings.ringPoints(r), level));
+  return bound;
+}
+
+// Each ring is refined until its stand-in bound drops below the floor (or the tables end); the
+// ring of every level is kept for evaluation, the refined sets only while building.
+void TreeBuilder::refineRings() {
+  const RingSet& rings = patches_.rings;
+  refined_.resize(rings.size());
+  tree_.chainDepth.resize(rings.size());
+  std::vector<std::vector<float>> levels(rings.size());
+  tbb::parallel_for(size_t(0), rings.size(), [&](size_t r) {
+    const RingRules rules = rings.rules(r);
+    const size_t ringFloats = 3 * size_t(rules.shape.ringPointCount());
+    const size_t refinedFloats = 3 * size_t(rules.shape.refinedPointCount());
+    std::vector<float>& kept = levels[r];
+    kept.assign(rings.ringPoints(r), rings.ringPoints(r) + ringFloats);
+    int depth = 0;
+    while (depth < kMaxTableDepth &&
+           standInBound(rings, r, kept.data() + depth * ringFloats, depth) > floor_) {
+      refined_[r].resize((depth + 1) * refinedFloats);
+      float* next = refined_[r].data() + depth * refinedFloats;
+      refineRingStep<3>(rules, kept.data() + depth * ringFloats, next);
+      kept.insert(kept.end(), next, next + ringFloats);
+      ++depth;
+    }
+    tree_.chainDepth[r] = uint8_t(depth);
+  });
+  tree_.ringLevelOffsets.resize(rings.size());
+  for (size_t r = 0; r < rings.size(); ++r) {
+    tree_.ringLevelOffsets[r] = tree_.ringLevels.size();
+    tree_.ringLevels.insert(tree_.ringLevels.end(), levels[r].begin(), levels[r].end());
+  }
+}
+
+std::vector<std::vector<Item>> TreeBuilder::collectItems() const {
+  std::vector<std::vector<Item>> items(tree_.roots.size());
+  const RegularPatches& regular = patches_.regular;
+  for (size_t p = 0; p < regular.size(); ++p) {
+    const PatchDomain& d = regular.domains[p];
+    const RootSquare sq = rootSquareOf(d);
+    items[tree_.rootOf(d.baseFace, d.subFace)].push_back({sq.level, sq.ix, sq.iy, false, uint32_t(p), 0});
+  }
+  const RingSet& rings = patches_.rings;
+  for (size_t r = 0; r < rings.size(); ++r) {
+    for (int i = 0; i < rings.shapes[r].sectors; ++i) {
+      const size_t k = rings.sectorOffsets[r] + i;
+      if (!rings.sectorOwned[k]) continue;
+      const PatchDomain& d = rings.sectorDomains[k];
+      const RootSquare sq = rootSquareOf(d);
+      items[tree_.rootOf(d.baseFace, d.subFace)].push_back({sq.level, sq.ix, sq.iy, true, uint32_t(r), i});
+    }
+  }
+  return items;
+}
+
+uint32_t TreeBuilder::allocateChildren() {
+  const uint32_t first = uint32_t(tree_.nodes.size());
+  tree_.nodes.resize(tree_.nodes.size() + 4);
+  chainOf_.resize(tree_.nodes.size(), -1);
+  return first;
+}
+
+void TreeBuilder::fill(uint32_t slot, int level, uint64_t ix, uint64_t iy, std::vector<Item>& items) {
+  if (items.empty()) throwUnsupported("internal: a part of a face is covered by no piece");
+  if (items.size() == 1 && items[0].level == level) {
+    const Item& item = items[0];
+    if (item.sector) return fillChain(slot, item.index, item.ringSector, 0);
+    tree_.nodes[slot].kind = NodeKind::kRegularLeaf;
+    tree_.nodes[slot].payload = item.index;
+    return;
+  }
+  std::vector<Item> quadrants[4];
+  for (const Item& item : items) {
+    if (item.level <= level) throwUnsupported("internal: pieces of a face overlap");
+    const int bit = item.level - level - 1;
+    quadrants[((item.iy >> bit) & 1) * 2 + ((item.ix >> bit) & 1)].push_back(item);
+  }
+  items.clear();
+  items.shrink_to_fit();
+  const uint32_t first = allocateChildren();
+  tree_.nodes[slot].firstChild = first;
+  for (int q = 0; q < 4; ++q) fill(first + q, level + 1, 2 * ix + (q & 1), 2 * iy + (q >> 1), quadrants[q]);
+}
+
+// The EV quadrant of ring `ring`'s sector at chain level j and, above the chain's depth, the
+// next EV quadrant and the three FAS patches of level j + 1 below it.
+void TreeBuilder::fillChain(uint32_t slot, uint32_t ring, int sector, int chainLevel) {
+  const RingSet& rings = patches_.rings;
+  const PatchDomain& sectorDomain = rings.sectorDomains[rings.sectorOffsets[ring] + sector];
+  const int evCorner = originCorner(sectorDomain);
+  const bool bottom = chainLevel >= tree_.chainDepth[ring];
+  tree_.nodes[slot].kind = bottom ? NodeKind::kEvBottom : NodeKind::kEvChain;
+  tree_.nodes[slot].evCorners = uint8_t(1 << evCorner);
+  chainOf_[slot] = int32_t(chainSteps_.size());
+  chainSteps_.push_back({ring, sector, chainLevel});
+  if (bottom) {
+    tree_.nodes[slot].payload = uint32_t(tree_.evBottoms.size());
+    tree_.evBottoms.emplace_back();
+    return;
+  }
+  const uint32_t first = allocateChildren();
+  tree_.nodes[slot].firstChild = first;
+  fillChain(first + quadrantOfCorner(evCorner), ring, sector, chainLevel + 1);
+  const double size = std::ldexp(1.0, -(chainLevel + 1));
+  const RootSquare parent = rootSquareOf(sectorDomain.restrict(0, 0, 2 * size));
+  for (int k = 0; k < kPatchesPerSector; ++k) {
+    int x0, y0;
+    sectorPatchOrigin(k, x0, y0);
+    const RootSquare sq = rootSquareOf(sectorDomain.restrict(x0 * size, y0 * size, size));
+    const int q = int((sq.iy - 2 * parent.iy) * 2 + (sq.ix - 2 * parent.ix));
+    SurfaceNode& leaf = tree_.nodes[first + q];
+    leaf.kind = NodeKind::kFasLeaf;
+    leaf.payload = uint32_t(tree_.fasLeaves.size());
+    tree_.fasLeaves.push_back({ring, uint16_t(sector), uint8_t(chainLevel + 1), uint8_t(k)});
+  }
+}
+
+// Leaf nets; FAS leaves from the refined sets kept while building.
+BezierNet TreeBuilder::leafNet(const SurfaceNode& node) const {
+  if (node.kind == NodeKind::kRegularLeaf) {
+    return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()));
+  }
+  const FasLeaf& leaf = tree_.fasLeaves[node.payload];
+  const size_t refinedFloats = 3 * size_t(patches_.rings.shapes[leaf.ring].refinedPointCount());
+  return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()),
+                  refined_[leaf.ring].data() + (leaf.level - 1) * refinedFloats);
+}
+
+void setCurvature(float out[3], const Curvature& m) {
+  out[0] = roundUp(m.uu), out[1] = roundUp(m.uv), out[2] = roundUp(m.vv);
+}
+
+NodeFit TreeBuilder::summarizeLeaf(SurfaceNode& node, int level) const {
+  NodeFit fit;
+  fit.g = leafNet(node);
+  for (int c = 0; c < 4; ++c) fit.corners[c] = fit.g[kCornerIndex[c]];
+  setCurvature(node.curvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
+  for (int a = 0; a < 3; ++a) {
+    double lo = fit.g[0][a], hi = lo;
+    for (const Vec3d& p : fit.g) lo = std::min(lo, p[a]), hi = std::max(hi, p[a]);
+    node.boxMin[a] = std::nextafter(float(lo), -kInfinity);
+    node.boxMax[a] = std::nextafter(float(hi), kInfinity);
+  }
+  return fit;
+}
+
+// An EV quadrant's ACC-1 stand-in from the ring at its level, with the depth tables' bound. Its
+// corners are exact: the EV corner is the limit position, the outer edges are taken from the
+// neighbouring B-spline patches (innermost_patch.h).
+NodeFit TreeBuilder::ringStandIn(const ChainStep& step, int) const {
+  const RingSet& rings = patches_.rings;
+  const RingRules rules = rings.rules(step.ring);
+  const float* ring = tree_.ringAtLevel(rings, step.ring, step.level);
+  Vec3 g[16];
+  innermostNet(rules, step.sector, ring, rings.centers[step.ring], g);
+  const PatchDomain& sectorDomain = rings.sectorDomains[rings.sectorOffsets[step.ring] + step.sector];
+  NodeFit fit;
+  fit.g = orientNet(toDouble(g).data(), rootSquareOf(sectorDomain).orientation);
+  for (int c = 0; c < 4; ++c) fit.corners[c] = fit.g[kCornerIndex[c]];
+  fit.r = standInBound(rings, step.ring, ring, step.level) * (1 + 1e-5) + 1e-6 * floor_;
+  return fit;
+}
+
+// The least-squares bicubic of four children, r = max_k (r_k + hull distance between child k's
+// stand-in and the fit's quadrant k); the corners are the children's.
+NodeFit TreeBuilder::fitChildren(const NodeFit children[4]) const {
+  BezierNet quadrants[4];
+  for (int q = 0; q < 4; ++q) quadrants[q] = children[q].g;
+  NodeFit fit;
+  fit.g = coarsenNets(quadrants);
+  for (int q = 0; q < 4; ++q) {
+    fit.r = std::max(fit.r, children[q].r + netDistance(quadrants[q], quadrantNet(fit.g, q & 1, q >> 1)));
+  }
+  for (int c = 0; c < 4; ++c) fit.corners[c] = children[quadrantOfCorner(c)].corners[c];
+  return fit;
+}
+
+// An EV quadrant's box: the surface over it lies in the hull of its ring (Catmull-Clark's masks
+// are convex combinations). Other nodes: the union of their children's boxes.
+void TreeBuilder::setBox(uint32_t index, const ChainStep* step) {
+  SurfaceNode& node = tree_.nodes[index];
+  if (step != nullptr) {
+    const RingSet& rings = patches_.rings;
+    const float* ring = tree_.ringAtLevel(rings, step->ring, step->level);
+    const Vec3 c = rings.centers[step->ring];
+    for (int a = 0; a < 3; ++a) node.boxMin[a] = node.boxMax[a] = ring[a] + c[a];
+    for (int p = 0; p < rings.shapes[step->ring].ringPointCount(); ++p) {
+      for (int a = 0; a < 3; ++a) {
+        const float x = ring[3 * p + a] + c[a];
+        node.boxMin[a] = std::min(node.boxMin[a], x), node.boxMax[a] = std::max(node.boxMax[a], x);
+      }
+    }
+    for (int a = 0; a < 3; ++a) {
+      node.boxMin[a] = std::nextafter(node.boxMin[a], -kInfinity);
+      node.boxMax[a] = std::nextafter(node.boxMax[a], kInfinity);
+    }
+    return;
+  }
+  for (int q = 0; q < 4; ++q) {
+    const SurfaceNode& child = tree_.nodes[node.firstChild + q];
+    for (int a = 0; a < 3; ++a) {
+      node.boxMin[a] = q == 0 ? child.boxMin[a] : std::min(node.boxMin[a], child.boxMin[a]);
+      node.boxMax[a] = q == 0 ? child.boxMax[a] : std::max(node.boxMax[a], child.boxMax[a]);
+    }
+  }
+}
+
+// docs/ADAPTIVE.md §3: with B the bilinear interpolant of the corner values, any triangle of the
+// square with its vertices on the square's sides has ‖f − L‖ ≤ r + ‖g − B‖ + |twist|/4 + σ,
+// σ the largest bow ‖f − chord‖ of a side that carries a vertex other than its corners.
+void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const {
+  node.standInBound = roundUp(fit.r);
+  setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
+  const Vec3d twist = fit.corners[0] - fit.corners[1] + fit.corners[2] - fit.corners[3];
+  node.pairBound = roundUp((fit.r + splitNetDistance(fit.g, bilinearNet(fit.corners)) + length(twist) / 4) * (1 + 1e-9));
+  for (int side = 0; side < 4; ++side) {
+    int from, to;
+    sideCorners(side, from, to);
+    node.sideBow[side] =
+        roundUp((fit.r + sideChordDistance(fit.g, side, fit.corners[from], fit.corners[to])) * (1 + 1e-9));
+  }
+}
+
+// Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and
+// the fit of their children; the deepest keeps the former (and its net, for evaluation).
+NodeFit TreeBuilder::summarize(uint32_t index, int level) {
+  SurfaceNode& self = tree_.nodes[index];
+  if (self.kind == NodeKind::kRegularLeaf || self.kind == NodeKind::kFasLeaf) {
+    NodeFit fit = summarizeLeaf(self, level);
+    for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
+    setStandIn(tree_.nodes[index], fit, level);
+    return fit;
+  }
+  const ChainStep* step = chainOf_[index] >= 0 ? &chainSteps_[chainOf_[index]] : nullptr;
+  NodeFit fit;
+  if (self.kind == NodeKind::kEvBottom) {
+    fit = ringStandIn(*step, level);
+    for (int k = 0; k < 16; ++k) tree_.evBottoms[self.payload].g[k] = Vec3(fit.g[k]);
+  } else {
+    NodeFit children[4];
+    for (int q = 0; q < 4; ++q) children[q] = summarize(tree_.nodes[index].firstChild + q, level + 1);
+    fit = fitChildren(children);
+    if (step != nullptr) {
+      NodeFit ring = ringStandIn(*step, level);
+      if (ring.r < fit.r) fit = ring;
+    }
+  }
+  SurfaceNode& node = tree_.nodes[index];
+  for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
+  setBox(index, node.kind == NodeKind::kInternal ? nullptr : step);
+  if (node.kind == NodeKind::kInternal) {
+    Curvature m;
+    for (int q = 0; q < 4; ++q) {
+      const SurfaceNode& child = tree_.nodes[node.firstChild + q];
+      m = m.max(child.bound());
+      for (int corner = 0; corner < 4; ++corner) {
+        if (quadrantOfCorner(corner) == q && (child.evCorners >> corner & 1)) node.evCorners |= uint8_t(1 << corner);
+      }
+    }
+    setCurvature(node.curvature, m);
+  } else {
+    for (float& m : node.curvature) m = kInfinity;
+  }
+  setStandIn(node, fit, level);
+  return fit;
+}
+
+// A leaf's deviation from each ancestor's bilinear interpolant B (restricted to the leaf, B is the
+// bilinear of its values at the leaf's corners), and along the ancestor's sides the leaf touches,
+// from the ancestor's chords. First a cheap bound: the leaf's deviation from its own bilinear
+// plus the largest gap between the two bilinears, at a leaf corner (their difference is
+// bilinear); the de Casteljau bound only where the cheap one could raise the maximum.
+void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
+                                       const std::vector<Ancestor>& path) {
+  Vec3d own[4];
+  for (int k = 0; k < 4; ++k) own[k] = net[kCornerIndex[k]];
+  const double ownPair = r + splitNetDistance(net, bilinearNet(own));
+  double ownBow[4];
+  for (int side = 0; side < 4; ++side) {
+    int from, to;
+    sideCorners(side, from, to);
+    ownBow[side] = r + sideChordDistance(net, side, own[from], own[to]);
+  }
+  for (const Ancestor& a : path) {
+    const std::array<Vec3d, 4>& c = corners_[a.node];
+    const int d = level - a.level;
+    const double scale = std::ldexp(1.0, -d);
+    const double x0 = double(ix - (a.ix << d)) * scale, y0 = double(iy - (a.iy << d)) * scale;
+    auto bilinear = [&c](double x, double y) {
+      return c[0] * ((1 - x) * (1 - y)) + c[1] * (x * (1 - y)) + c[2] * (x * y) + c[3] * ((1 - x) * y);
+    };
+    Vec3d leafCorners[4];
+    double gap[4];
+    const double cx[4] = {x0, x0 + scale, x0 + scale, x0}, cy[4] = {y0, y0, y0 + scale, y0 + scale};
+    for (int k = 0; k < 4; ++k) {
+      leafCorners[k] = bilinear(cx[k], cy[k]);
+      gap[k] = length(own[k] - leafCorners[k]);
+    }
+    const double cheap = ownPair + *std::max_element(gap, gap + 4);
+    if (cheap > pair_[a.node]) {
+      pair_[a.node] = std::max(pair_[a.node], std::min(cheap, r + splitNetDistance(net, bilinearNet(leafCorners))));
+    }
+    const bool touches[4] = {y0 == 0, x0 + scale == 1, y0 + scale == 1, x0 == 0};
+    for (int side = 0; side < 4; ++side) {
+      if (!touches[side]) continue;
+      int from, to;
+      sideCorners(side, from, to);
+      const double cheapBow = ownBow[side] + std::max(gap[from], gap[to]);
+      if (cheapBow <= bow_[a.node][side]) continue;
+      const double bow = r + sideChordDistance(net, side, leafCorners[from], leafCorners[to]);
+      bow_[a.node][side] = std::max(bow_[a.node][side], std::min(cheapBow, bow));
+    }
+  }
+}
+
+void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path) {
+  const SurfaceNode& node = tree_.nodes[index];
+  if (node.isLeaf()) {
+    if (node.kind == NodeKind::kEvBottom) {
+      BezierNet g;
+      for (int k = 0; k < 16; ++k) g[k] = Vec3d(tree_.evBottoms[node.payload].g[k]);
+      leafAgainstAncestors(g, node.standInBound, level, ix, iy, path);
+    } else {
+      leafAgainstAncestors(leafNet(node), 0, level, ix, iy, path);
+    }
+    return;
+  }
+  path.push_back({index, level, ix, iy});
+  for (int q = 0; q < 4; ++q) {
+    directPairBounds(node.firstChild + q, level + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), path);
+  }
+  path.pop_back();
+  // Keep whichever is smaller: the bound through the stand-in or the one gathered from leaves.
+  SurfaceNode& self = tree_.nodes[index];
+  const std::array<Vec3d, 4>& c = corners_[index];
+  const double twist = length(c[0] - c[1] + c[2] - c[3]) / 4;
+  self.pairBound = std::min(self.pairBound, roundUp((pair_[index] + twist) * (1 + 1e-9)));
+  for (int side = 0; side < 4; ++side) {
+    self.sideBow[side] = std::min(self.sideBow[side], roundUp(bow_[index][side] * (1 + 1e-9)));
+  }
+}
+
+SurfaceTree TreeBuilder::build() {
+  const double diagonal = length(Vec3d(patches_.boundsMax) - Vec3d(patches_.boundsMin));
+  floor_ = kChainFloor * (diagonal > 0 ? diagonal : 1.0);
+  makeRoots();
+  refineRings();
+  std::vector<std::vector<Item>> items = collectItems();
+  for (size_t root = 0; root < tree_.roots.size(); ++root) {
+    if (items[root].empty()) continue;
+    const uint32_t slot = uint32_t(tree_.nodes.size());
+    tree_.nodes.emplace_back();
+    chainOf_.push_back(-1);
+    tree_.roots[root].node = slot;
+    fill(slot, 0, 0, 0, items[root]);
+  }
+  corners_.resize(tree_.nodes.size());
+  pair_.assign(tree_.nodes.size(), 0);
+  bow_.assign(tree_.nodes.size(), {0, 0, 0, 0});
+  // Roots are independent: every slot they write was allocated above.
+  tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
+    const uint32_t root = tree_.roots[r].node;
+    if (root == kNoNode) return;
+    summarize(root, 0);
+    std::vector<Ancestor> path;
+    directPairBounds(root, 0, 0, 0, path);
+  });
+  return std::move(tree_);
+}
+
+}  // namespace
+
+size_t SurfaceTree::bytes() const {
+  return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
+         nodes.size() * sizeof(SurfaceNode) + fasLeaves.size() * sizeof(FasLeaf) +
+         evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + ringLevelOffsets.size() * sizeof(size_t) +
+         ringLevels.size() * sizeof(float);
+}
+
+SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh) {
+  return TreeBuilder(patches, mesh).build();
+}
+
+}  // namespace tessera
