@@ -84,106 +84,92 @@ bool SeamTopology::sharp(int v0, int v1) const {
 
 namespace {
 
-const Fraction kZero{0, 1}, kOne{1, 1}, kHalf{1, 2};
-
-// A point at `fromA` along base edge (a → b), named from its lower vertex.
-PointKey edgePoint(int a, int b, const Fraction& fromA) {
-  const Fraction t = a < b ? fromA : kOne - fromA;
+// A point at `fromA` (scale kLineScale) along base edge (a → b), named from its lower vertex.
+SeamPoint edgePoint(int a, int b, int64_t fromA) {
+  const int64_t t = a < b ? fromA : kLineScale - fromA;
   const auto [lo, hi] = ordered(a, b);
-  if (t == kZero) return {PointKey::kVertex, lo, 0, {}, {}};
-  if (t == kOne) return {PointKey::kVertex, hi, 0, {}, {}};
-  return {PointKey::kEdge, lo, hi, t, {}};
+  if (t == 0) return {SeamPoint::kVertex, lo, 0, 0};
+  if (t == kLineScale) return {SeamPoint::kVertex, hi, 0, 0};
+  return {SeamPoint::kEdge, lo, hi, t};
 }
 
-PointKey spokePoint(const SeamTopology& topology, int face, int spoke, const Fraction& t) {
+SeamPoint spokePoint(const SeamTopology& topology, int face, int spoke, int64_t t) {
   const int n = topology.faceSizes[face];
   spoke = ((spoke % n) + n) % n;
-  if (t == kOne) return {PointKey::kCenter, face, 0, {}, {}};
-  if (t == kZero) return edgePoint(topology.corner(face, spoke), topology.corner(face, spoke + 1), kHalf);
-  return {PointKey::kSpoke, face, spoke, t, {}};
+  if (t == kLineScale) return {SeamPoint::kCenter, face, 0, 0};
+  if (t == 0) return edgePoint(topology.corner(face, spoke), topology.corner(face, spoke + 1), kLineScale / 2);
+  return {SeamPoint::kSpoke, face, spoke, t};
+}
+
+SeamPoint boundaryPoint(const SeamTopology& topology, int face, int sub, int64_t x, int64_t y) {
+  auto c = [&](int k) { return topology.corner(face, k); };
+  // Root coordinates at kRootScale are line positions at kLineScale doubled (whole edges) or as
+  // they are (half edges).
+  if (sub < 0) {
+    if (y == 0) return edgePoint(c(0), c(1), 2 * x);
+    if (x == kRootScale) return edgePoint(c(1), c(2), 2 * y);
+    if (y == kRootScale) return edgePoint(c(2), c(3), kLineScale - 2 * x);
+    return edgePoint(c(3), c(0), kLineScale - 2 * y);
+  }
+  if (y == 0) return edgePoint(c(sub), c(sub + 1), x);
+  if (x == 0) return edgePoint(c(sub - 1), c(sub), kLineScale - y);
+  if (x == kRootScale) return spokePoint(topology, face, sub, 2 * y);
+  return spokePoint(topology, face, sub - 1, 2 * x);
 }
 
 }  // namespace
 
-PointKey rootPointKey(const SeamTopology& topology, int face, int sub, const Fraction& u, const Fraction& v) {
-  auto c = [&](int k) { return topology.corner(face, k); };
-  if (sub < 0) {
-    if (v == kZero) return edgePoint(c(0), c(1), u);
-    if (u == kOne) return edgePoint(c(1), c(2), v);
-    if (v == kOne) return edgePoint(c(2), c(3), kOne - u);
-    if (u == kZero) return edgePoint(c(3), c(0), kOne - v);
-    return {PointKey::kInterior, face, -1, u, v};
+SeamPoint rootBoundaryPoint(const SeamTopology& topology, int face, int sub, int64_t x, int64_t y, int& qualifier) {
+  const SeamPoint point = boundaryPoint(topology, face, sub, x, y);
+  qualifier = -1;
+  if (point.kind == SeamPoint::kVertex) {
+    for (int k = 0; k < topology.faceSizes[face]; ++k) {
+      if (topology.corner(face, k) == point.a) qualifier = topology.wedge(face, k);
+    }
+  } else if (point.kind == SeamPoint::kEdge && topology.sharp(point.a, point.b)) {
+    qualifier = face;
   }
-  if (v == kZero) return edgePoint(c(sub), c(sub + 1), u.over(2));
-  if (u == kZero) return edgePoint(c(sub - 1), c(sub), kOne - v.over(2));
-  if (u == kOne) return spokePoint(topology, face, sub, v);
-  if (v == kOne) return spokePoint(topology, face, sub - 1, u);
-  return {PointKey::kInterior, face, sub, u, v};
+  return point;
+}
+
+SeamPoint pointOnLine(const SeamTopology& topology, const SeamLine& line, int64_t t) {
+  return line.kind == SeamLine::kEdge ? edgePoint(line.a, line.b, t) : spokePoint(topology, line.a, line.b, t);
 }
 
 SideLine rootSideLine(const SeamTopology& topology, int face, int sub, int side) {
   auto c = [&](int k) { return topology.corner(face, k); };
-  // The base edge (from → to) a side runs along, and where on it the side's s = 0 and s = 1 lie.
-  auto onEdge = [&](int from, int to, const Fraction& t0, int scaleNum, int scaleDen) {
+  // The base edge (from → to) a side runs along: t from `from` is origin + sign·s/halves.
+  auto onEdge = [&](int from, int to, int origin, int sign, int halves) {
     SideLine line;
     const auto [lo, hi] = ordered(from, to);
-    line.line = {LineKey::kEdge, 0, lo, hi, {}};
-    // t measured from `from`; flip to the lower vertex.
-    line.origin = from < to ? t0 : kOne - t0;
-    line.scaleNum = from < to ? scaleNum : -scaleNum;
-    line.scaleDen = scaleDen;
+    line.line = {SeamLine::kEdge, lo, hi};
+    // Measured from the lower vertex instead: t' = 1 − t.
+    line.origin = from < to ? origin : 1 - origin;
+    line.sign = from < to ? sign : -sign;
+    line.halves = halves;
     line.sharp = topology.sharp(from, to);
     return line;
   };
   auto onSpoke = [&](int k) {
     const int n = topology.faceSizes[face];
     SideLine line;
-    line.line = {LineKey::kSpoke, 0, face, ((k % n) + n) % n, {}};
-    line.origin = kZero;
+    line.line = {SeamLine::kSpoke, face, ((k % n) + n) % n};
     return line;
   };
   if (sub < 0) {
     switch (side) {
-      case 0: return onEdge(c(0), c(1), kZero, 1, 1);    // t = u
-      case 1: return onEdge(c(1), c(2), kZero, 1, 1);    // t = v
-      case 2: return onEdge(c(2), c(3), kOne, -1, 1);    // t = 1 − u
-      default: return onEdge(c(3), c(0), kOne, -1, 1);   // t = 1 − v
+      case 0: return onEdge(c(0), c(1), 0, 1, 1);    // t = u
+      case 1: return onEdge(c(1), c(2), 0, 1, 1);    // t = v
+      case 2: return onEdge(c(2), c(3), 1, -1, 1);   // t = 1 − u
+      default: return onEdge(c(3), c(0), 1, -1, 1);  // t = 1 − v
     }
   }
   switch (side) {
-    case 0: return onEdge(c(sub), c(sub + 1), kZero, 1, 2);   // t = u/2
-    case 1: return onSpoke(sub);                              // t = v
-    case 2: return onSpoke(sub - 1);                          // t = u
-    default: return onEdge(c(sub - 1), c(sub), kOne, -1, 2);  // t = 1 − v/2
+    case 0: return onEdge(c(sub), c(sub + 1), 0, 1, 2);   // t = u/2
+    case 1: return onSpoke(sub);                          // t = v
+    case 2: return onSpoke(sub - 1);                      // t = u
+    default: return onEdge(c(sub - 1), c(sub), 1, -1, 2);  // t = 1 − v/2
   }
-}
-
-PointKey linePointKey(const SeamTopology& topology, const LineKey& line, const Fraction& t, int face, int sub) {
-  switch (line.kind) {
-    case LineKey::kEdge: return edgePoint(line.a, line.b, t);
-    case LineKey::kSpoke: return spokePoint(topology, line.a, line.b, t);
-    default:
-      return line.axis == 0 ? rootPointKey(topology, face, sub, line.fixed, t)
-                            : rootPointKey(topology, face, sub, t, line.fixed);
-  }
-}
-
-NormalSplit normalSplitAt(const SeamTopology& topology, int face, int sub, const Fraction& u, const Fraction& v,
-                          int& qualifier) {
-  qualifier = -1;
-  const PointKey key = rootPointKey(topology, face, sub, u, v);
-  if (key.kind == PointKey::kVertex) {
-    const int n = topology.faceSizes[face];
-    for (int k = 0; k < n; ++k) {
-      if (topology.corner(face, k) == key.a) qualifier = topology.wedge(face, k);
-    }
-    return qualifier < 0 ? NormalSplit::kNone : NormalSplit::kByWedge;
-  }
-  if (key.kind == PointKey::kEdge && topology.sharp(key.a, key.b)) {
-    qualifier = face;
-    return NormalSplit::kByFace;
-  }
-  return NormalSplit::kNone;
 }
 
 }  // namespace tessera

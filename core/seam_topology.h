@@ -1,8 +1,11 @@
-// Where roots meet (docs/ADAPTIVE.md §5): the line each tile side lies on and its exact
-// parameter there, canonical names for points that several roots or lines share, and where the
+// Where roots meet (docs/ADAPTIVE.md §5): the base edge or n-gon spoke each root side lies on and
+// its parameter there, canonical names for points that several roots share, and where the
 // surface is not tangent-continuous, so that vertices there get one normal per side. Roots are a
 // quad base face or one quad sub-face of an n-gon; sub-face k has (0,0) at corner k, (1,0) at
 // the middle of edge k, (1,1) at the centre and (0,1) at the middle of edge k − 1.
+//
+// Tile corners are dyadic: root coordinates are integers at scale 2^kRootBits, and positions
+// along base edges and spokes integers at scale 2^kLineBits (a sub-face covers half an edge).
 #pragma once
 
 #include <cstdint>
@@ -10,52 +13,41 @@
 #include <vector>
 
 #include "core/control_mesh.h"
-#include "core/fraction.h"
 
 namespace tessera {
 
-// A line of the parameter domain: a base edge (lower vertex first), an n-gon's spoke from the
-// middle of edge k to the centre, or a line inside one root at a fixed u (axis 0) or v (axis 1).
-struct LineKey {
-  enum Kind : uint8_t { kEdge, kSpoke, kInterior } kind = kEdge;
-  uint8_t axis = 0;
-  int a = 0, b = 0;  // edge (lo, hi) | spoke (face, k) | interior (root, -)
-  Fraction fixed;    // interior: the fixed coordinate
+inline constexpr int kRootBits = 50;
+inline constexpr int kLineBits = kRootBits + 1;
+inline constexpr int64_t kRootScale = int64_t(1) << kRootBits;
+inline constexpr int64_t kLineScale = int64_t(1) << kLineBits;
 
-  friend bool operator<(const LineKey& x, const LineKey& y) {
-    if (x.kind != y.kind) return x.kind < y.kind;
-    if (x.a != y.a) return x.a < y.a;
-    if (x.b != y.b) return x.b < y.b;
-    if (x.axis != y.axis) return x.axis < y.axis;
-    return x.fixed < y.fixed;
-  }
-  friend bool operator==(const LineKey& x, const LineKey& y) {
-    return x.kind == y.kind && x.a == y.a && x.b == y.b && x.axis == y.axis && x.fixed == y.fixed;
-  }
-};
+// A line roots share: a base edge (lower vertex first) or spoke k of an n-gon (from the middle of
+// edge k to the centre).
+struct SeamLine {
+  enum Kind : uint8_t { kEdge, kSpoke } kind = kEdge;
+  int a = 0, b = 0;  // edge (lo, hi) | spoke (face, k)
 
-// A point of the domain, named the same from every root and line that holds it.
-struct PointKey {
-  enum Kind : uint8_t { kVertex, kEdge, kSpoke, kCenter, kInterior } kind = kVertex;
-  int a = 0, b = 0;  // vertex | edge (lo, hi) | spoke (face, k) | centre face | interior root
-  Fraction x, y;     // parameter on the edge or spoke | (u, v) inside the root
-
-  friend bool operator<(const PointKey& p, const PointKey& q) {
-    if (p.kind != q.kind) return p.kind < q.kind;
-    if (p.a != q.a) return p.a < q.a;
-    if (p.b != q.b) return p.b < q.b;
-    if (!(p.x == q.x)) return p.x < q.x;
-    return p.y < q.y;
+  friend bool operator<(const SeamLine& x, const SeamLine& y) {
+    return std::tie(x.kind, x.a, x.b) < std::tie(y.kind, y.a, y.b);
   }
-  friend bool operator==(const PointKey& p, const PointKey& q) {
-    return p.kind == q.kind && p.a == q.a && p.b == q.b && p.x == q.x && p.y == q.y;
+  friend bool operator==(const SeamLine& x, const SeamLine& y) {
+    return x.kind == y.kind && x.a == y.a && x.b == y.b;
   }
 };
 
-// How a point's normal is chosen where the surface has a crease: one normal for everyone, one per
-// base face (inside an infinitely sharp edge), or one per wedge of faces around a base vertex
-// that sharp edges separate (or per face at an infinitely sharp corner).
-enum class NormalSplit : uint8_t { kNone, kByFace, kByWedge };
+// A point on the boundary of roots, named the same from every root that has it.
+struct SeamPoint {
+  enum Kind : uint8_t { kVertex, kEdge, kSpoke, kCenter } kind = kVertex;
+  int a = 0, b = 0;  // vertex | edge (lo, hi) | spoke (face, k) | centre face
+  int64_t t = 0;     // position on the edge (from its lower vertex) or spoke, scale kLineScale
+
+  friend bool operator<(const SeamPoint& p, const SeamPoint& q) {
+    return std::tie(p.kind, p.a, p.b, p.t) < std::tie(q.kind, q.a, q.b, q.t);
+  }
+  friend bool operator==(const SeamPoint& p, const SeamPoint& q) {
+    return p.kind == q.kind && p.a == q.a && p.b == q.b && p.t == q.t;
+  }
+};
 
 struct SeamTopology {
   std::vector<int> faceSizes, faceVertices, faceOffsets;
@@ -69,32 +61,33 @@ struct SeamTopology {
     return faceVertices[faceOffsets[face] + ((k % n) + n) % n];
   }
   bool sharp(int v0, int v1) const;
-  // Wedge of corner k of face f (the smallest face id of the wedge), -1 for a smooth vertex.
+  // Wedge of corner k of face f (the smallest face id of the wedge), -1 where one normal serves
+  // every face around the vertex.
   int wedge(int face, int k) const {
     const int n = faceSizes[face];
     return cornerWedge[faceOffsets[face] + ((k % n) + n) % n];
   }
 };
 
-// A root side (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) on its line: parameter t = origin + scale·s
-// for the side's own coordinate s (u on sides 0 and 2, v on sides 1 and 3).
+// A root side (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) on its line: t = origin + sign·s/halves
+// for the side's own coordinate s (u on sides 0 and 2, v on sides 1 and 3), t and s in [0, 1].
 struct SideLine {
-  LineKey line;
-  Fraction origin;
-  int scaleNum = 1, scaleDen = 1;  // ±1 or ±1/2
-  bool sharp = false;              // an infinitely sharp base edge
-
-  Fraction at(const Fraction& s) const { return origin + s.times(scaleNum).over(scaleDen); }
+  SeamLine line;
+  int origin = 0;   // 0 or 1
+  int sign = 1;     // ±1
+  int halves = 1;   // 1, or 2 where a sub-face covers half a base edge
+  bool sharp = false;  // an infinitely sharp base edge
 };
 
 SideLine rootSideLine(const SeamTopology& topology, int face, int subFace, int side);
 
-// The canonical name of point (u, v) of a root, and how its normal splits (the wedge or face id
-// that qualifies it, -1 for kNone).
-PointKey rootPointKey(const SeamTopology& topology, int face, int subFace, const Fraction& u, const Fraction& v);
-// The point at parameter t of a line; `face`, `subFace`: the root of an interior line.
-PointKey linePointKey(const SeamTopology& topology, const LineKey& line, const Fraction& t, int face, int subFace);
-NormalSplit normalSplitAt(const SeamTopology& topology, int face, int subFace, const Fraction& u,
-                          const Fraction& v, int& qualifier);
+// The name of root point (X, Y) (scale kRootScale) on the root's boundary, and how its normal
+// splits: the face (inside an infinitely sharp edge) or wedge (at a base vertex) that qualifies
+// its vertex for this root, -1 where one normal serves all.
+SeamPoint rootBoundaryPoint(const SeamTopology& topology, int face, int subFace, int64_t x, int64_t y,
+                            int& qualifier);
+
+// The point at t (scale kLineScale) of a line.
+SeamPoint pointOnLine(const SeamTopology& topology, const SeamLine& line, int64_t t);
 
 }  // namespace tessera

@@ -10,45 +10,150 @@ namespace tessera {
 
 namespace {
 
-const Fraction kZero{0, 1}, kOne{1, 1};
+using Int = __int128;
 
-// floor(x / y) for positive y, exactly.
-int64_t floorDiv(const Fraction& x, const Fraction& y) {
-  const __int128 n = __int128(x.num) * y.den, d = __int128(x.den) * y.num;
-  __int128 q = n / d;
-  if ((n % d != 0) && ((n < 0) != (d < 0))) --q;
-  return int64_t(q);
+Int gcd(Int a, Int b) {
+  if (a < 0) a = -a;
+  while (b != 0) {
+    const Int r = a % b;
+    a = b, b = r;
+  }
+  return a;
 }
 
-// One tile side on its line: [a, b] there (a < b), its own cell `step`, `cells` of them.
-struct Use {
-  LineKey line;
-  Fraction a, b, step;
-  uint32_t tile;
-  uint16_t cells;
-  uint8_t side;
-  bool rigid, reversed;
+// A tile side on its line. Its own grid point k (0..cells) lies at (a + sign·k) / (cells·2^exp)
+// of the line's parameter. A line's positions are integers in units of 1/D, D the least common
+// multiple of its sides' denominators, so that everything after is integer arithmetic.
+struct LineUse {
+  Int a = 0;
+  int sign = 1, cells = 1, exp = 0;
+  bool rigid = false;
+  uint32_t tile = 0;
+  uint8_t side = 0;
 };
 
-// The exact root coordinates of a tile: its square [x0, x0 + size]² and grid points.
-struct TileFrame {
-  int face, subFace;
-  Fraction x0, y0, size;
+// A line's points in units of 1/denominator, and each use's span and cell there.
+struct LinePoints {
+  Int denominator = 1;
+  std::vector<Int> points;
+  std::vector<Int> lo, hi, cell;  // per use
+};
 
-  TileFrame(const Tile& t, const SurfaceRoot& root)
-      : face(root.baseFace), subFace(root.subFace),
-        x0(Fraction::make(int64_t(t.ix), int64_t(1) << t.level)),
-        y0(Fraction::make(int64_t(t.iy), int64_t(1) << t.level)),
-        size(Fraction::make(1, int64_t(1) << t.level)) {}
-  // Root (u, v) of the point at coordinate c ∈ [0, 1] along side k (sides 0, 2 along u).
-  void onSide(int k, const Fraction& c, Fraction& u, Fraction& v) const {
-    const Fraction along = size.times(c.num).over(c.den);  // c·size, exactly
-    if (k == 0 || k == 2) {
-      u = x0 + along, v = k == 0 ? y0 : y0 + size;
-    } else {
-      v = y0 + along, u = k == 3 ? x0 : x0 + size;
-    }
+// A line's points: every side's ends, rigid sides' own points, then for each side, densest
+// first, its own points wherever two neighbouring points are farther apart than its cell (so
+// that no side sees a gap wider than its cells, tile_stitching.h).
+void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
+  Int rates = 1;
+  int exp = 0;
+  for (size_t i = 0; i < count; ++i) {
+    rates = rates / gcd(rates, uses[i].cells) * uses[i].cells;
+    exp = std::max(exp, uses[i].exp);
   }
+  out.denominator = rates << exp;
+  out.lo.resize(count), out.hi.resize(count), out.cell.resize(count);
+  out.points.clear();
+  for (size_t i = 0; i < count; ++i) {
+    const LineUse& use = uses[i];
+    out.cell[i] = out.denominator / (Int(use.cells) << use.exp);
+    const Int p0 = use.a * out.cell[i], p1 = (use.a + use.sign * use.cells) * out.cell[i];
+    out.lo[i] = std::min(p0, p1), out.hi[i] = std::max(p0, p1);
+    out.points.push_back(out.lo[i]);
+    out.points.push_back(out.hi[i]);
+    for (int k = 1; use.rigid && k < use.cells; ++k) out.points.push_back(out.lo[i] + k * out.cell[i]);
+  }
+  auto normalize = [&out] {
+    std::sort(out.points.begin(), out.points.end());
+    out.points.erase(std::unique(out.points.begin(), out.points.end()), out.points.end());
+  };
+  normalize();
+  if (count == 1 && !uses[0].rigid) {
+    // One side (a boundary of the surface): its own points.
+    out.points.clear();
+    for (int k = 0; k <= uses[0].cells; ++k) out.points.push_back(out.lo[0] + k * out.cell[0]);
+    return;
+  }
+  std::vector<size_t> order(count);
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&out](size_t x, size_t y) { return out.cell[x] < out.cell[y]; });
+  std::vector<Int> added;
+  for (size_t i : order) {
+    added.clear();
+    auto p = std::lower_bound(out.points.begin(), out.points.end(), out.lo[i]);
+    for (; p + 1 != out.points.end() && *(p + 1) <= out.hi[i]; ++p) {
+      if (*(p + 1) - *p <= out.cell[i]) continue;
+      for (Int own = out.lo[i] + ((*p - out.lo[i]) / out.cell[i] + 1) * out.cell[i]; own < *(p + 1); own += out.cell[i]) {
+        added.push_back(own);
+      }
+    }
+    if (added.empty()) continue;
+    out.points.insert(out.points.end(), added.begin(), added.end());
+    normalize();
+  }
+}
+
+// The uses of a line in order of where they start (ties in their given order): walked along with
+// the sorted points, the first use holding each point is found in one pass.
+std::vector<uint32_t> byStart(const LinePoints& points) {
+  std::vector<uint32_t> order(points.lo.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&points](uint32_t x, uint32_t y) { return points.lo[x] < points.lo[y]; });
+  return order;
+}
+
+// The first use (in start order from `cursor` on) that holds `value`.
+size_t holder(const LinePoints& points, const std::vector<uint32_t>& order, size_t& cursor, Int value) {
+  while (points.hi[order[cursor]] < value) ++cursor;
+  size_t k = cursor;
+  while (!(points.lo[order[k]] <= value && value <= points.hi[order[k]])) ++k;
+  return order[k];
+}
+
+// Coordinate along a use's side, increasing with u or v, and 1 minus it: exact fractions, rounded.
+void sideCoordinates(const LineUse& use, Int lo, Int hi, Int cell, Int point, double& at, double& back) {
+  Int fromLo = point - lo, toHi = hi - point;
+  if (use.sign < 0) std::swap(fromLo, toHi);
+  const Int span = hi - lo;
+  if (fromLo % cell == 0) {
+    const int k = int(fromLo / cell);
+    at = double(k) / use.cells, back = double(use.cells - k) / use.cells;
+    return;
+  }
+  const Int g = gcd(fromLo, span);
+  at = double((long double)(fromLo / g) / (long double)(span / g));
+  back = double((long double)(toHi / g) / (long double)(span / g));
+}
+
+// A vertex reference while roots are stitched: a root's own vertex (local id), or a point on the
+// root's boundary (an index into the root's boundary corners, or a global line point).
+enum class Ref : uint8_t { kLocal, kCorner, kLinePoint };
+struct PendingPoint {
+  uint32_t id;
+  Ref kind;
+  int qualifier;  // normal split for this root (-1: none)
+  double at, back;
+};
+
+struct BoundaryCorner {
+  SeamPoint key;
+  uint32_t tile;
+  int qualifier;
+  double u, v;
+};
+
+struct BoundaryUse {
+  SeamLine line;
+  LineUse use;
+  bool sharp;
+  int face;
+};
+
+// What stitching one root produces before the roots are joined.
+struct RootStitch {
+  std::vector<VertexRequest> locals;  // local vertices: inner corners, inner line points, grids
+  std::vector<BoundaryCorner> corners;
+  std::vector<BoundaryUse> boundaryUses;
+  std::vector<std::vector<PendingPoint>> sides;  // 4 per tile of the root (boundary ones later)
+  std::vector<uint32_t> gridFirst;               // local id of each tile's inner grid
 };
 
 class Stitcher {
@@ -59,260 +164,340 @@ class Stitcher {
   Stitching run();
 
  private:
-  struct Line {
-    uint32_t firstUse, useCount;
-    uint32_t firstPoint, pointCount;  // into points_
-  };
-  TileFrame frameOf(size_t tile) const { return TileFrame(plan_.tiles[tile], tree_.roots[tileRoot_[tile]]); }
-  void collectUses();
-  std::vector<Fraction> resolveLine(const Use* uses, uint32_t count) const;
-  void resolveLines();
-  void numberCorners();
-  void numberLinePoints();
-  void buildSides();
-  uint32_t cornerVertex(const PointKey& key) const;
-  PointKey keyOnLine(const Use& use, const Fraction& t) const;
-  Fraction sideCoordinate(const Use& use, const Fraction& t) const;
+  void stitchRoot(uint32_t root, RootStitch& out) const;
+  uint32_t cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y, const std::vector<std::pair<int64_t, int64_t>>& inner,
+                     RootStitch& out, Ref& kind, int& qualifier) const;
+  void joinBoundaries();
+  void assemble();
   void splitNormals();
 
   const AdaptivePlan& plan_;
   const SurfaceTree& tree_;
   const SeamTopology& seams_;
   const std::function<void()>& checkpoint_;
-  std::vector<uint32_t> tileRoot_;
-  std::vector<Use> uses_;  // sorted by line, then a
-  std::vector<Line> lines_;
-  std::vector<Fraction> points_;      // each line's points, sorted
-  std::vector<uint8_t> pointIsEnd_;   // a side's end (a tile corner) rather than a line's own point
-  std::vector<uint32_t> pointVertex_;
-  std::vector<PointKey> cornerKeys_;  // sorted, unique: vertex i is corner key i
+  std::vector<RootStitch> roots_;
+  std::vector<uint32_t> localFirst_;               // per root, its first final vertex
+  std::vector<std::vector<uint32_t>> cornerIds_;   // per root: boundary corner → final vertex
+  std::vector<VertexRequest> seamVertices_;        // boundary corners, then boundary line points
+  uint32_t seamFirst_ = 0;
+  // Boundary sides: per tile side, its points (final ids) once the lines are joined.
+  std::vector<std::vector<PendingPoint>> boundarySides_;
   Stitching out_;
 };
 
-void Stitcher::collectUses() {
-  const size_t tiles = plan_.tiles.size();
-  tileRoot_.resize(tiles);
-  for (size_t r = 0; r + 1 < plan_.rootFirstTile.size(); ++r) {
-    std::fill(tileRoot_.begin() + plan_.rootFirstTile[r], tileRoot_.begin() + plan_.rootFirstTile[r + 1], uint32_t(r));
+constexpr int64_t at(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
+
+// A tile corner: a local vertex inside the root, or a boundary corner.
+uint32_t Stitcher::cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y,
+                             const std::vector<std::pair<int64_t, int64_t>>& inner, RootStitch& out, Ref& kind,
+                             int& qualifier) const {
+  qualifier = -1;
+  if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) {
+    kind = Ref::kLocal;
+    return uint32_t(std::lower_bound(inner.begin(), inner.end(), std::pair{x, y}) - inner.begin());
   }
-  uses_.resize(4 * tiles);
-  tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
+  kind = Ref::kCorner;
+  const SurfaceRoot& r = tree_.roots[root];
+  BoundaryCorner corner;
+  corner.key = rootBoundaryPoint(seams_, r.baseFace, r.subFace, x, y, corner.qualifier);
+  corner.tile = tile;
+  corner.u = std::ldexp(double(x), -kRootBits), corner.v = std::ldexp(double(y), -kRootBits);
+  qualifier = corner.qualifier;
+  out.corners.push_back(corner);
+  return uint32_t(out.corners.size() - 1);
+}
+
+// One root: its inner corners and the lines inside it are resolved here; its sides on base edges
+// and spokes wait for the other roots there (joinBoundaries).
+void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
+  const uint32_t first = plan_.rootFirstTile[root], last = plan_.rootFirstTile[root + 1];
+  const SurfaceRoot& r = tree_.roots[root];
+  out.sides.resize(4 * size_t(last - first));
+  // Inner corners, numbered in (x, y) order.
+  std::vector<std::pair<int64_t, int64_t>> inner;
+  for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
-    const TileFrame frame = frameOf(t);
-    const uint64_t last = (uint64_t(1) << tile.level) - 1;
-    const bool onRoot[4] = {tile.iy == 0, tile.ix == last, tile.iy == last, tile.ix == 0};
-    // One-cell-wide strips keep their long sides' points: their cells then meet those sides exactly.
+    for (int c = 0; c < 4; ++c) {
+      const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
+      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) inner.push_back({x, y});
+    }
+  }
+  std::sort(inner.begin(), inner.end());
+  inner.erase(std::unique(inner.begin(), inner.end()), inner.end());
+  // Every tile corner on the root's boundary is named, whatever sides meet there.
+  for (uint32_t t = first; t < last; ++t) {
+    const Tile& tile = plan_.tiles[t];
+    for (int c = 0; c < 4; ++c) {
+      const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
+      Ref kind;
+      int qualifier;
+      if (!(x > 0 && x < kRootScale && y > 0 && y < kRootScale)) cornerRef(root, t, x, y, inner, out, kind, qualifier);
+    }
+  }
+  for (const auto& [x, y] : inner) {
+    out.locals.push_back({UINT32_MAX, std::ldexp(double(x), -kRootBits), std::ldexp(double(y), -kRootBits), 0});
+  }
+  // Sides: inside the root they go on lines keyed (axis, fixed coordinate); on its boundary they
+  // wait for joinBoundaries.
+  struct InnerUse {
+    int axis;  // 0: u fixed (sides 1, 3), 1: v fixed (sides 0, 2)
+    int64_t fixed;
+    LineUse use;
+  };
+  std::vector<InnerUse> uses;
+  for (uint32_t t = first; t < last; ++t) {
+    const Tile& tile = plan_.tiles[t];
+    const uint64_t end = uint64_t(1) << tile.level;
     const bool strip = (tile.ru == 1) != (tile.rv == 1);
     for (int k = 0; k < 4; ++k) {
-      Use& use = uses_[4 * t + k];
-      Fraction u0, v0, u1, v1;
-      frame.onSide(k, kZero, u0, v0);
-      frame.onSide(k, kOne, u1, v1);
       const bool alongU = k == 0 || k == 2;
-      Fraction s0 = alongU ? u0 : v0, s1 = alongU ? u1 : v1, ta, tb;
-      if (onRoot[k]) {
-        const SideLine side = rootSideLine(seams_, frame.face, frame.subFace, k);
-        use.line = side.line;
-        ta = side.at(s0), tb = side.at(s1);
-      } else {
-        use.line = {LineKey::kInterior, uint8_t(alongU ? 1 : 0), int(tileRoot_[t]), 0, alongU ? v0 : u0};
-        ta = s0, tb = s1;
-      }
-      use.reversed = tb < ta;
-      use.a = use.reversed ? tb : ta;
-      use.b = use.reversed ? ta : tb;
-      use.cells = uint16_t(alongU ? tile.ru : tile.rv);
-      use.step = (use.b - use.a).over(use.cells);
-      use.tile = uint32_t(t);
+      LineUse use;
+      use.cells = alongU ? tile.ru : tile.rv;
+      use.exp = tile.level;
+      use.rigid = strip && use.cells > 1;
+      use.tile = t;
       use.side = uint8_t(k);
-      use.rigid = strip && (alongU ? tile.ru > 1 : tile.rv > 1);
-    }
-  });
-  tbb::parallel_sort(uses_.begin(), uses_.end(), [](const Use& x, const Use& y) {
-    if (!(x.line == y.line)) return x.line < y.line;
-    if (!(x.a == y.a)) return x.a < y.a;
-    return x.tile < y.tile || (x.tile == y.tile && x.side < y.side);
-  });
-  for (uint32_t u = 0; u < uses_.size(); ++u) {
-    if (u == 0 || !(uses_[u].line == uses_[u - 1].line)) lines_.push_back({u, 0, 0, 0});
-    ++lines_.back().useCount;
-  }
-}
-
-// A line's points: every side's ends, rigid sides' own points, then for each side, densest
-// first, its own points wherever two neighbouring points are farther apart than its cell.
-std::vector<Fraction> Stitcher::resolveLine(const Use* uses, uint32_t count) const {
-  std::vector<Fraction> points;
-  for (uint32_t i = 0; i < count; ++i) {
-    points.push_back(uses[i].a);
-    points.push_back(uses[i].b);
-    for (int k = 1; uses[i].rigid && k < uses[i].cells; ++k) points.push_back(uses[i].a + uses[i].step.times(k));
-  }
-  auto normalize = [&points] {
-    std::sort(points.begin(), points.end());
-    points.erase(std::unique(points.begin(), points.end()), points.end());
-  };
-  normalize();
-  std::vector<uint32_t> order(count);
-  std::iota(order.begin(), order.end(), 0u);
-  std::stable_sort(order.begin(), order.end(), [uses](uint32_t x, uint32_t y) { return uses[x].step < uses[y].step; });
-  std::vector<Fraction> added;
-  for (uint32_t i : order) {
-    const Use& use = uses[i];
-    added.clear();
-    auto p = std::lower_bound(points.begin(), points.end(), use.a);
-    for (; p + 1 != points.end() && *(p + 1) <= use.b; ++p) {
-      if ((*(p + 1) - *p) <= use.step) continue;
-      for (int64_t k = floorDiv(*p - use.a, use.step) + 1;; ++k) {
-        const Fraction own = use.a + use.step.times(k);
-        if (!(own < *(p + 1))) break;
-        added.push_back(own);
-      }
-    }
-    if (added.empty()) continue;
-    points.insert(points.end(), added.begin(), added.end());
-    normalize();
-  }
-  return points;
-}
-
-void Stitcher::resolveLines() {
-  std::vector<std::vector<Fraction>> perLine(lines_.size());
-  tbb::parallel_for(size_t(0), lines_.size(), [&](size_t l) {
-    if (checkpoint_ && l % 4096 == 0) checkpoint_();
-    perLine[l] = resolveLine(uses_.data() + lines_[l].firstUse, lines_[l].useCount);
-  });
-  for (size_t l = 0; l < lines_.size(); ++l) {
-    lines_[l].firstPoint = uint32_t(points_.size());
-    lines_[l].pointCount = uint32_t(perLine[l].size());
-    points_.insert(points_.end(), perLine[l].begin(), perLine[l].end());
-  }
-  pointIsEnd_.assign(points_.size(), 0);
-  tbb::parallel_for(size_t(0), lines_.size(), [&](size_t l) {
-    const Line& line = lines_[l];
-    const Fraction* first = points_.data() + line.firstPoint;
-    const Fraction* last = first + line.pointCount;
-    for (uint32_t u = line.firstUse; u < line.firstUse + line.useCount; ++u) {
-      for (const Fraction& end : {uses_[u].a, uses_[u].b}) pointIsEnd_[std::lower_bound(first, last, end) - points_.data()] = 1;
-    }
-  });
-}
-
-// Tile corners: one vertex per distinct point, numbered in key order, evaluated by the first tile
-// (in plan order) that has it.
-void Stitcher::numberCorners() {
-  struct CornerRef {
-    PointKey key;
-    uint32_t tile;
-    uint8_t corner;
-  };
-  const size_t tiles = plan_.tiles.size();
-  std::vector<CornerRef> refs(4 * tiles);
-  tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
-    const TileFrame frame = frameOf(t);
-    for (int c = 0; c < 4; ++c) {
-      const Fraction u = c == 1 || c == 2 ? frame.x0 + frame.size : frame.x0;
-      const Fraction v = c >= 2 ? frame.y0 + frame.size : frame.y0;
-      refs[4 * t + c] = {rootPointKey(seams_, frame.face, frame.subFace, u, v), uint32_t(t), uint8_t(c)};
-    }
-  });
-  tbb::parallel_sort(refs.begin(), refs.end(), [](const CornerRef& x, const CornerRef& y) {
-    if (!(x.key == y.key)) return x.key < y.key;
-    return x.tile < y.tile;
-  });
-  for (size_t i = 0; i < refs.size(); ++i) {
-    if (i > 0 && refs[i].key == refs[i - 1].key) continue;
-    cornerKeys_.push_back(refs[i].key);
-    const Tile& tile = plan_.tiles[refs[i].tile];
-    const double s = tile.size();
-    const int c = refs[i].corner;
-    const uint32_t id = uint32_t(out_.vertices.size());
-    out_.vertices.push_back({refs[i].tile, (double(tile.ix) + (c == 1 || c == 2)) * s, (double(tile.iy) + (c >= 2)) * s, id});
-  }
-}
-
-uint32_t Stitcher::cornerVertex(const PointKey& key) const {
-  return uint32_t(std::lower_bound(cornerKeys_.begin(), cornerKeys_.end(), key) - cornerKeys_.begin());
-}
-
-PointKey Stitcher::keyOnLine(const Use& use, const Fraction& t) const {
-  const SurfaceRoot& root = tree_.roots[tileRoot_[use.tile]];
-  return linePointKey(seams_, use.line, t, root.baseFace, root.subFace);
-}
-
-// Coordinate in [0, 1] along a use's side, increasing with u or v.
-Fraction Stitcher::sideCoordinate(const Use& use, const Fraction& t) const {
-  const Fraction along = (t - use.a) / (use.b - use.a);
-  return use.reversed ? kOne - along : along;
-}
-
-// A line's own points (not tile corners), numbered line by line, each evaluated by the first side
-// (in line order) that holds it.
-void Stitcher::numberLinePoints() {
-  pointVertex_.resize(points_.size());
-  for (const Line& line : lines_) {
-    const Fraction* first = points_.data() + line.firstPoint;
-    uint32_t u = line.firstUse;
-    for (uint32_t p = 0; p < line.pointCount; ++p) {
-      const uint32_t index = line.firstPoint + p;
-      if (pointIsEnd_[index]) {
-        pointVertex_[index] = cornerVertex(keyOnLine(uses_[line.firstUse], first[p]));
+      const uint64_t along = alongU ? tile.ix : tile.iy;
+      const bool onBoundary = k == 0 ? tile.iy == 0 : k == 1 ? tile.ix + 1 == end : k == 2 ? tile.iy + 1 == end : tile.ix == 0;
+      if (onBoundary) {
+        const SideLine line = rootSideLine(seams_, r.baseFace, r.subFace, k);
+        const int d = line.halves == 2 ? 1 : 0;
+        use.a = (Int(line.origin) * use.cells << (tile.level + d)) + line.sign * Int(along) * use.cells;
+        use.sign = line.sign;
+        use.exp = tile.level + d;
+        out.boundaryUses.push_back({line.line, use, line.sharp, r.baseFace});
         continue;
       }
-      while (!(uses_[u].a <= first[p] && first[p] <= uses_[u].b)) ++u;
-      const Use& use = uses_[u];
-      const TileFrame frame = frameOf(use.tile);
-      Fraction ru, rv;
-      frame.onSide(use.side, sideCoordinate(use, first[p]), ru, rv);
-      pointVertex_[index] = uint32_t(out_.vertices.size());
-      out_.vertices.push_back({use.tile, ru.value(), rv.value(), pointVertex_[index]});
+      use.a = Int(along) * use.cells;
+      const uint64_t fixedIndex = k == 0 ? tile.iy : k == 1 ? tile.ix + 1 : k == 2 ? tile.iy + 1 : tile.ix;
+      uses.push_back({alongU ? 1 : 0, at(tile.level, fixedIndex), use});
     }
   }
-}
-
-// Each tile side's points, from its line, in increasing side coordinate; then the inner grids.
-void Stitcher::buildSides() {
-  const size_t tiles = plan_.tiles.size();
-  std::vector<uint32_t> counts(4 * tiles + 1, 0);
-  std::vector<std::pair<uint32_t, uint32_t>> ranges(4 * tiles);  // side → [first, last) in points_
-  tbb::parallel_for(size_t(0), lines_.size(), [&](size_t l) {
-    const Line& line = lines_[l];
-    const Fraction* first = points_.data() + line.firstPoint;
-    const Fraction* last = first + line.pointCount;
-    for (uint32_t u = line.firstUse; u < line.firstUse + line.useCount; ++u) {
-      const Use& use = uses_[u];
-      const uint32_t from = uint32_t(std::lower_bound(first, last, use.a) - points_.data());
-      const uint32_t to = uint32_t(std::upper_bound(first, last, use.b) - points_.data());
-      ranges[4 * size_t(use.tile) + use.side] = {from, to};
-      counts[4 * size_t(use.tile) + use.side] = to - from;
-    }
+  std::sort(uses.begin(), uses.end(), [](const InnerUse& x, const InnerUse& y) {
+    if (x.axis != y.axis) return x.axis < y.axis;
+    if (x.fixed != y.fixed) return x.fixed < y.fixed;
+    return x.use.tile < y.use.tile || (x.use.tile == y.use.tile && x.use.side < y.use.side);
   });
-  out_.sideFirst.resize(4 * tiles + 1);
-  std::exclusive_scan(counts.begin(), counts.end(), out_.sideFirst.begin(), 0u);
-  out_.sidePoints.resize(out_.sideFirst.back());
-  std::vector<const Use*> useOf(4 * tiles);
-  for (const Use& use : uses_) useOf[4 * size_t(use.tile) + use.side] = &use;
-  tbb::parallel_for(size_t(0), 4 * tiles, [&](size_t s) {
-    const Use& use = *useOf[s];
-    const auto [from, to] = ranges[s];
-    SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
-    for (uint32_t p = from; p < to; ++p) {
-      const Fraction at = sideCoordinate(use, points_[p]);
-      out[use.reversed ? to - 1 - p : p - from] = {pointVertex_[p], at.value(), (kOne - at).value()};
+  std::vector<LineUse> line;
+  LinePoints points;
+  std::vector<PendingPoint> resolved;
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i;
+    line.clear();
+    while (j < uses.size() && uses[j].axis == uses[i].axis && uses[j].fixed == uses[i].fixed) line.push_back(uses[j++].use);
+    resolveLine(line.data(), line.size(), points);
+    // Each point: a tile corner (the end of some side) or the line's own vertex.
+    resolved.assign(points.points.size(), {0, Ref::kLocal, -1, 0, 0});
+    // A point that ends a side is that side's tile corner (0: not an end).
+    std::vector<uint32_t> endOf(points.points.size(), 0);
+    for (size_t u = 0; u < line.size(); ++u) {
+      for (const Int end : {points.lo[u], points.hi[u]}) {
+        endOf[std::lower_bound(points.points.begin(), points.points.end(), end) - points.points.begin()] = line[u].tile + 1;
+      }
     }
-  });
-  out_.gridFirst.resize(tiles);
-  for (size_t t = 0; t < tiles; ++t) {
+    const std::vector<uint32_t> order = byStart(points);
+    size_t cursor = 0;
+    for (size_t p = 0; p < points.points.size(); ++p) {
+      const Int value = points.points[p];
+      // Position along the line at kRootScale (exact for tile corners, which are dyadic).
+      const Int scaled = (value << kRootBits) / points.denominator;
+      const int64_t x = uses[i].axis == 1 ? int64_t(scaled) : uses[i].fixed;
+      const int64_t y = uses[i].axis == 1 ? uses[i].fixed : int64_t(scaled);
+      PendingPoint& point = resolved[p];
+      if (endOf[p] != 0) {
+        point.id = cornerRef(root, endOf[p] - 1, x, y, inner, out, point.kind, point.qualifier);
+        continue;
+      }
+      const size_t owner = holder(points, order, cursor, value);
+      point.id = uint32_t(out.locals.size());
+      const double along = double((long double)value / (long double)points.denominator);
+      const double fixed = std::ldexp(double(uses[i].fixed), -kRootBits);
+      out.locals.push_back({line[owner].tile, uses[i].axis == 1 ? along : fixed, uses[i].axis == 1 ? fixed : along, 0});
+    }
+    for (size_t u = 0; u < line.size(); ++u) {
+      std::vector<PendingPoint>& side = out.sides[4 * size_t(line[u].tile - first) + line[u].side];
+      const auto from = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin();
+      const auto to = std::upper_bound(points.points.begin(), points.points.end(), points.hi[u]) - points.points.begin();
+      for (auto p = from; p < to; ++p) {
+        PendingPoint point = resolved[p];
+        sideCoordinates(line[u], points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
+        side.push_back(point);
+      }
+      if (line[u].sign < 0) std::reverse(side.begin(), side.end());
+    }
+    i = j;
+  }
+  out.gridFirst.resize(last - first);
+  for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
-    out_.gridFirst[t] = uint32_t(out_.vertices.size());
+    out.gridFirst[t - first] = uint32_t(out.locals.size());
     const double s = tile.size();
     for (int j = 1; j < tile.rv; ++j) {
       for (int i = 1; i < tile.ru; ++i) {
-        out_.vertices.push_back({uint32_t(t), (double(tile.ix) + double(i) / tile.ru) * s,
-                                 (double(tile.iy) + double(j) / tile.rv) * s, uint32_t(out_.vertices.size())});
+        out.locals.push_back({t, (double(tile.ix) + double(i) / tile.ru) * s, (double(tile.iy) + double(j) / tile.rv) * s, 0});
       }
     }
   }
+  // Inner corners take the first tile that has one as the tile that evaluates it.
+  for (uint32_t t = first; t < last; ++t) {
+    const Tile& tile = plan_.tiles[t];
+    for (int c = 0; c < 4; ++c) {
+      const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
+      if (!(x > 0 && x < kRootScale && y > 0 && y < kRootScale)) continue;
+      VertexRequest& request = out.locals[std::lower_bound(inner.begin(), inner.end(), std::pair{x, y}) - inner.begin()];
+      request.tile = std::min(request.tile, t);
+    }
+  }
+}
+
+// Base edges and spokes: each root's sides there joined with the other root's, and every
+// boundary corner named once.
+void Stitcher::joinBoundaries() {
+  struct CornerRef {
+    SeamPoint key;
+    uint32_t root, index;
+  };
+  std::vector<CornerRef> refs;
+  for (uint32_t r = 0; r < roots_.size(); ++r) {
+    for (uint32_t i = 0; i < roots_[r].corners.size(); ++i) refs.push_back({roots_[r].corners[i].key, r, i});
+  }
+  tbb::parallel_sort(refs.begin(), refs.end(), [this](const CornerRef& x, const CornerRef& y) {
+    if (!(x.key == y.key)) return x.key < y.key;
+    return roots_[x.root].corners[x.index].tile < roots_[y.root].corners[y.index].tile;
+  });
+  cornerIds_.resize(roots_.size());
+  for (uint32_t r = 0; r < roots_.size(); ++r) cornerIds_[r].resize(roots_[r].corners.size());
+  std::vector<SeamPoint> keys;
+  for (size_t i = 0; i < refs.size(); ++i) {
+    if (i == 0 || !(refs[i].key == refs[i - 1].key)) {
+      keys.push_back(refs[i].key);
+      const BoundaryCorner& c = roots_[refs[i].root].corners[refs[i].index];
+      seamVertices_.push_back({c.tile, c.u, c.v, 0});
+    }
+    cornerIds_[refs[i].root][refs[i].index] = uint32_t(keys.size() - 1);
+  }
+  // Boundary uses, line by line.
+  struct Seam {
+    BoundaryUse use;
+    uint32_t root;
+  };
+  std::vector<Seam> seams;
+  for (uint32_t r = 0; r < roots_.size(); ++r) {
+    for (const BoundaryUse& use : roots_[r].boundaryUses) seams.push_back({use, r});
+  }
+  tbb::parallel_sort(seams.begin(), seams.end(), [](const Seam& x, const Seam& y) {
+    if (!(x.use.line == y.use.line)) return x.use.line < y.use.line;
+    return x.use.use.tile < y.use.use.tile || (x.use.use.tile == y.use.use.tile && x.use.use.side < y.use.use.side);
+  });
+  boundarySides_.resize(4 * plan_.tiles.size());
+  std::vector<LineUse> line;
+  LinePoints points;
+  for (size_t i = 0; i < seams.size();) {
+    size_t j = i;
+    line.clear();
+    while (j < seams.size() && seams[j].use.line == seams[i].use.line) line.push_back(seams[j++].use.use);
+    resolveLine(line.data(), line.size(), points);
+    std::vector<uint8_t> isEnd(points.points.size(), 0);
+    for (size_t u = 0; u < line.size(); ++u) {
+      for (const Int end : {points.lo[u], points.hi[u]}) {
+        isEnd[std::lower_bound(points.points.begin(), points.points.end(), end) - points.points.begin()] = 1;
+      }
+    }
+    std::vector<uint32_t> ids(points.points.size());
+    const std::vector<uint32_t> order = byStart(points);
+    size_t cursor = 0;
+    for (size_t p = 0; p < points.points.size(); ++p) {
+      const Int value = points.points[p];
+      if (isEnd[p]) {
+        const SeamPoint key = pointOnLine(seams_, seams[i].use.line, int64_t((value << kLineBits) / points.denominator));
+        ids[p] = uint32_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+        continue;
+      }
+      const size_t owner = holder(points, order, cursor, value);
+      const LineUse& use = line[owner];
+      const Tile& tile = plan_.tiles[use.tile];
+      double along, back;
+      sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
+      const double s = tile.size();
+      const bool alongU = use.side == 0 || use.side == 2;
+      const double u = alongU ? (double(tile.ix) + along) * s : (double(tile.ix) + (use.side == 1)) * s;
+      const double v = alongU ? (double(tile.iy) + (use.side == 2)) * s : (double(tile.iy) + along) * s;
+      ids[p] = uint32_t(seamVertices_.size());
+      seamVertices_.push_back({use.tile, u, v, 0});
+    }
+    for (size_t u = 0; u < line.size(); ++u) {
+      std::vector<PendingPoint>& side = boundarySides_[4 * size_t(line[u].tile) + line[u].side];
+      const Seam& seam = seams[i + u];
+      const auto from = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin();
+      const auto to = std::upper_bound(points.points.begin(), points.points.end(), points.hi[u]) - points.points.begin();
+      for (auto p = from; p < to; ++p) {
+        PendingPoint point{ids[p], Ref::kLinePoint, -1, 0, 0};
+        sideCoordinates(line[u], points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
+        if (p == from || p + 1 == to) {
+          // The side's own corner: its root decides the split (a wedge at a base vertex, the face
+          // inside a sharp edge).
+          const Tile& tile = plan_.tiles[line[u].tile];
+          const int k = line[u].side;
+          const bool high = point.at == 1;
+          const uint64_t ix = tile.ix + ((k == 1) || ((k == 0 || k == 2) && high) ? 1 : 0);
+          const uint64_t iy = tile.iy + ((k == 2) || ((k == 1 || k == 3) && high) ? 1 : 0);
+          const SurfaceRoot& root = tree_.roots[seam.root];
+          rootBoundaryPoint(seams_, root.baseFace, root.subFace, at(tile.level, ix), at(tile.level, iy), point.qualifier);
+        } else if (seam.use.sharp) {
+          point.qualifier = seam.use.face;
+        }
+        side.push_back(point);
+      }
+      if (line[u].sign < 0) std::reverse(side.begin(), side.end());
+    }
+    i = j;
+  }
+}
+
+// Final vertex ids: each root's own vertices root by root, then the seams' points.
+void Stitcher::assemble() {
+  localFirst_.resize(roots_.size());
+  uint32_t next = 0;
+  for (uint32_t r = 0; r < roots_.size(); ++r) {
+    localFirst_[r] = next;
+    next += uint32_t(roots_[r].locals.size());
+  }
+  seamFirst_ = next;
+  out_.vertices.resize(next + seamVertices_.size());
+  for (uint32_t r = 0; r < roots_.size(); ++r) {
+    std::copy(roots_[r].locals.begin(), roots_[r].locals.end(), out_.vertices.begin() + localFirst_[r]);
+  }
+  std::copy(seamVertices_.begin(), seamVertices_.end(), out_.vertices.begin() + seamFirst_);
+  for (uint32_t v = 0; v < out_.vertices.size(); ++v) out_.vertices[v].positionOf = v;
+  const size_t tiles = plan_.tiles.size();
+  out_.sideFirst.assign(4 * tiles + 1, 0);
+  out_.gridFirst.resize(tiles);
+  for (uint32_t r = 0; r < roots_.size(); ++r) {
+    const uint32_t first = plan_.rootFirstTile[r];
+    for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
+      const size_t s = 4 * size_t(first) + k;
+      out_.sideFirst[s + 1] = uint32_t(roots_[r].sides[k].size() + boundarySides_[s].size());
+    }
+    for (size_t t = 0; t < roots_[r].gridFirst.size(); ++t) out_.gridFirst[first + t] = localFirst_[r] + roots_[r].gridFirst[t];
+  }
+  std::partial_sum(out_.sideFirst.begin(), out_.sideFirst.end(), out_.sideFirst.begin());
+  out_.sidePoints.resize(out_.sideFirst.back());
+  tbb::parallel_for(size_t(0), roots_.size(), [&](size_t r) {
+    const uint32_t first = plan_.rootFirstTile[r];
+    for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
+      const size_t s = 4 * size_t(first) + k;
+      const std::vector<PendingPoint>& side = roots_[r].sides[k].empty() ? boundarySides_[s] : roots_[r].sides[k];
+      SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
+      for (size_t p = 0; p < side.size(); ++p) {
+        const PendingPoint& point = side[p];
+        uint32_t id = point.id;
+        if (point.kind == Ref::kLocal) id += localFirst_[r];
+        if (point.kind == Ref::kCorner) id = seamFirst_ + cornerIds_[r][point.id];
+        if (point.kind == Ref::kLinePoint) id += seamFirst_;
+        out[p] = {id, point.at, point.back};
+      }
+    }
+  });
 }
 
 // Across an infinitely sharp edge, and around a vertex that sharp edges cut into wedges, each
@@ -321,34 +506,20 @@ void Stitcher::splitNormals() {
   struct Claim {
     uint32_t vertex;
     int qualifier;
-    uint32_t tile;
-    uint32_t sidePoint;
-    double u, v;
+    uint32_t tile, sidePoint;
+    int side;
   };
   std::vector<Claim> claims;
-  for (const Use& use : uses_) {
-    if (use.line.kind != LineKey::kEdge) continue;
-    const size_t s = 4 * size_t(use.tile) + use.side;
-    const TileFrame frame = frameOf(use.tile);
-    for (uint32_t p = out_.sideFirst[s]; p < out_.sideFirst[s + 1]; ++p) {
-      const SidePoint& point = out_.sidePoints[p];
-      const bool end = p == out_.sideFirst[s] || p + 1 == out_.sideFirst[s + 1];
-      if (!end && !seams_.sharp(use.line.a, use.line.b)) continue;
-      // Only base vertices and points of sharp edges can split; recompute the exact position.
-      const Fraction c = end ? (p == out_.sideFirst[s] ? kZero : kOne) : Fraction{};
-      int qualifier = -1;
-      Fraction u, v;
-      if (end) {
-        frame.onSide(use.side, c, u, v);
-        if (normalSplitAt(seams_, frame.face, frame.subFace, u, v, qualifier) == NormalSplit::kNone) continue;
-      } else {
-        qualifier = frame.face;
+  for (uint32_t r = 0; r < roots_.size(); ++r) {
+    const uint32_t first = plan_.rootFirstTile[r];
+    for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
+      const size_t s = 4 * size_t(first) + k;
+      const std::vector<PendingPoint>& side = roots_[r].sides[k].empty() ? boundarySides_[s] : roots_[r].sides[k];
+      for (size_t p = 0; p < side.size(); ++p) {
+        if (side[p].qualifier < 0) continue;
+        const uint32_t index = out_.sideFirst[s] + uint32_t(p);
+        claims.push_back({out_.sidePoints[index].vertex, side[p].qualifier, uint32_t(first + k / 4), index, int(k % 4)});
       }
-      const Tile& tile = plan_.tiles[use.tile];
-      const double size = tile.size(), at = point.at;
-      const double pu = use.side == 0 || use.side == 2 ? (double(tile.ix) + at) * size : (double(tile.ix) + (use.side == 1)) * size;
-      const double pv = use.side == 1 || use.side == 3 ? (double(tile.iy) + at) * size : (double(tile.iy) + (use.side == 2)) * size;
-      claims.push_back({point.vertex, qualifier, use.tile, p, pu, pv});
     }
   }
   std::sort(claims.begin(), claims.end(), [](const Claim& x, const Claim& y) {
@@ -356,7 +527,8 @@ void Stitcher::splitNormals() {
     if (x.qualifier != y.qualifier) return x.qualifier < y.qualifier;
     return x.tile < y.tile || (x.tile == y.tile && x.sidePoint < y.sidePoint);
   });
-  // The qualifier of the tile that evaluates the vertex keeps it; every other qualifier gets a copy.
+  // The qualifier of the tile that evaluates the vertex keeps it; every other one gets a copy,
+  // evaluated (for its normal) in the root of its first tile.
   for (size_t i = 0; i < claims.size();) {
     size_t end = i;
     while (end < claims.size() && claims[end].vertex == claims[i].vertex) ++end;
@@ -372,7 +544,13 @@ void Stitcher::splitNormals() {
       uint32_t vertex = original;
       if (claims[k].qualifier != keep) {
         vertex = uint32_t(out_.vertices.size());
-        out_.vertices.push_back({claims[k].tile, claims[k].u, claims[k].v, original});
+        const Tile& tile = plan_.tiles[claims[k].tile];
+        const int side = claims[k].side;
+        const double s = tile.size(), along = out_.sidePoints[claims[k].sidePoint].at;
+        const bool alongU = side == 0 || side == 2;
+        const double u = alongU ? (double(tile.ix) + along) * s : (double(tile.ix) + (side == 1)) * s;
+        const double v = alongU ? (double(tile.iy) + (side == 2)) * s : (double(tile.iy) + along) * s;
+        out_.vertices.push_back({claims[k].tile, u, v, original});
       }
       for (size_t g = k; g < groupEnd; ++g) out_.sidePoints[claims[g].sidePoint].vertex = vertex;
       k = groupEnd;
@@ -382,13 +560,14 @@ void Stitcher::splitNormals() {
 }
 
 Stitching Stitcher::run() {
-  collectUses();
+  roots_.resize(tree_.roots.size());
+  tbb::parallel_for(size_t(0), roots_.size(), [&](size_t r) {
+    if (checkpoint_ && r % 256 == 0) checkpoint_();
+    if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), roots_[r]);
+  });
+  joinBoundaries();
   if (checkpoint_) checkpoint_();
-  resolveLines();
-  numberCorners();
-  numberLinePoints();
-  if (checkpoint_) checkpoint_();
-  buildSides();
+  assemble();
   splitNormals();
   return std::move(out_);
 }
