@@ -26,13 +26,6 @@ void gatherFasNet(const RingSet& rings, const FasLeaf& leaf, const float* refine
   for (int k = 0; k < 16; ++k) net[k] += rings.centers[leaf.ring];
 }
 
-void refineFasLevel(const SurfaceTree& tree, const RingSet& rings, const FasLeaf& leaf,
-                    std::vector<float>& refined) {
-  const RingRules rules = rings.rules(leaf.ring);
-  refined.resize(3 * size_t(rules.shape.refinedPointCount()));
-  refineRingStep<3>(rules, tree.ringAtLevel(rings, leaf.ring, leaf.level - 1), refined.data());
-}
-
 BezierNet bsplineToRootBezier(const Vec3* bspline, const Orientation& orientation) {
   Vec3d b[16], bezier[16];
   for (int k = 0; k < 16; ++k) b[k] = Vec3d(bspline[k]);
@@ -53,28 +46,22 @@ Vec3d unit(Vec3d n) {
 
 }  // namespace
 
-BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, const float* refined) {
+BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
   const SurfaceNode& node = tree.nodes[index];
   if (node.kind == NodeKind::kRegularLeaf) {
     return bsplineToRootBezier(patches.regular.bspline[node.payload].data(),
                                rootSquareOf(patches.regular.domains[node.payload]).orientation);
   }
   const FasLeaf& leaf = tree.fasLeaves[node.payload];
-  std::vector<float> scratch;
-  if (refined == nullptr) {
-    refineFasLevel(tree, patches.rings, leaf, scratch);
-    refined = scratch.data();
-  }
   Vec3 net[16];
-  gatherFasNet(patches.rings, leaf, refined, net);
+  gatherFasNet(patches.rings, leaf, tree.refinedAtLevel(patches.rings, leaf.ring, leaf.level), net);
   return bsplineToRootBezier(net, rootSquareOf(fasDomain(patches.rings, leaf)).orientation);
 }
 
 const Vec3* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
   if (cachedFas_ != fasLeaf) {
     const FasLeaf& leaf = tree_.fasLeaves[fasLeaf];
-    refineFasLevel(tree_, patches_.rings, leaf, refined_);
-    gatherFasNet(patches_.rings, leaf, refined_.data(), cachedNet_);
+    gatherFasNet(patches_.rings, leaf, tree_.refinedAtLevel(patches_.rings, leaf.ring, leaf.level), cachedNet_);
     cachedFas_ = fasLeaf;
   }
   return cachedNet_;

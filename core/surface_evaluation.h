@@ -24,10 +24,8 @@ struct NodeSquare {
   double size() const { return std::ldexp(1.0, -level); }
 };
 
-// The Bézier net, in root orientation, of a leaf (regular or FAS). `refined`: the refined set of
-// the FAS leaf's level when the caller has it, else it is computed from the ring kept a level up.
-BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t node,
-                   const float* refined = nullptr);
+// The Bézier net, in root orientation, of a leaf (regular or FAS).
+BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
 
 struct SurfaceSample {
   Vec3d position;
@@ -35,7 +33,7 @@ struct SurfaceSample {
 };
 
 // Evaluates points of one root, starting from a node known to hold them. Keeps the last FAS
-// patch it built, so one thread walking a tile's points refines each ring level once.
+// patch it gathered.
 class SurfaceEvaluator {
  public:
   SurfaceEvaluator(const SurfaceTree& tree, const PatchSet& patches) : tree_(tree), patches_(patches) {}
@@ -51,7 +49,6 @@ class SurfaceEvaluator {
   const PatchSet& patches_;
   uint32_t cachedFas_ = kNoNode;
   Vec3 cachedNet_[16];
-  std::vector<float> refined_;
 };
 
 }  // namespace tessera

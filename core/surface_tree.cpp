@@ -110,8 +110,6 @@ class TreeBuilder {
   const PatchSet& patches_;
   const ControlMesh& mesh_;
   SurfaceTree tree_;
-  // Per ring, the refined (12n+1) sets of FAS levels 1..chainDepth, for the FAS leaves' nets.
-  std::vector<std::vector<float>> refined_;
   std::vector<ChainStep> chainSteps_;  // EV quadrants being built: node index → step
   std::vector<int32_t> chainOf_;
 
@@ -142,33 +140,28 @@ double standInBound(const RingSet& rings, size_t r, const float* ringAtLevel, in
 }
 
 // Each ring is refined until its stand-in bound drops below the floor (or the tables end); the
-// ring of every level is kept for evaluation, the refined sets only while building.
+// refined sets of every level are kept, for the FAS leaves' nets.
 void TreeBuilder::refineRings() {
   const RingSet& rings = patches_.rings;
-  refined_.resize(rings.size());
   tree_.chainDepth.resize(rings.size());
   std::vector<std::vector<float>> levels(rings.size());
   tbb::parallel_for(size_t(0), rings.size(), [&](size_t r) {
     const RingRules rules = rings.rules(r);
-    const size_t ringFloats = 3 * size_t(rules.shape.ringPointCount());
     const size_t refinedFloats = 3 * size_t(rules.shape.refinedPointCount());
     std::vector<float>& kept = levels[r];
-    kept.assign(rings.ringPoints(r), rings.ringPoints(r) + ringFloats);
+    auto ringOf = [&](int level) { return level == 0 ? rings.ringPoints(r) : kept.data() + (level - 1) * refinedFloats; };
     int depth = 0;
-    while (depth < kMaxTableDepth &&
-           standInBound(rings, r, kept.data() + depth * ringFloats, depth) > floor_) {
-      refined_[r].resize((depth + 1) * refinedFloats);
-      float* next = refined_[r].data() + depth * refinedFloats;
-      refineRingStep<3>(rules, kept.data() + depth * ringFloats, next);
-      kept.insert(kept.end(), next, next + ringFloats);
+    while (depth < kMaxTableDepth && standInBound(rings, r, ringOf(depth), depth) > floor_) {
+      kept.resize((depth + 1) * refinedFloats);
+      refineRingStep<3>(rules, ringOf(depth), kept.data() + depth * refinedFloats);
       ++depth;
     }
     tree_.chainDepth[r] = uint8_t(depth);
   });
-  tree_.ringLevelOffsets.resize(rings.size());
+  tree_.refinedOffsets.resize(rings.size());
   for (size_t r = 0; r < rings.size(); ++r) {
-    tree_.ringLevelOffsets[r] = tree_.ringLevels.size();
-    tree_.ringLevels.insert(tree_.ringLevels.end(), levels[r].begin(), levels[r].end());
+    tree_.refinedOffsets[r] = tree_.refinedLevels.size();
+    tree_.refinedLevels.insert(tree_.refinedLevels.end(), levels[r].begin(), levels[r].end());
   }
 }
 
@@ -255,15 +248,8 @@ void TreeBuilder::fillChain(uint32_t slot, uint32_t ring, int sector, int chainL
   }
 }
 
-// Leaf nets; FAS leaves from the refined sets kept while building.
 BezierNet TreeBuilder::leafNet(const SurfaceNode& node) const {
-  if (node.kind == NodeKind::kRegularLeaf) {
-    return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()));
-  }
-  const FasLeaf& leaf = tree_.fasLeaves[node.payload];
-  const size_t refinedFloats = 3 * size_t(patches_.rings.shapes[leaf.ring].refinedPointCount());
-  return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()),
-                  refined_[leaf.ring].data() + (leaf.level - 1) * refinedFloats);
+  return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()));
 }
 
 void setCurvature(float out[3], const Curvature& m) {
@@ -513,8 +499,8 @@ SurfaceTree TreeBuilder::build() {
 size_t SurfaceTree::bytes() const {
   return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
          nodes.size() * sizeof(SurfaceNode) + fasLeaves.size() * sizeof(FasLeaf) +
-         evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + ringLevelOffsets.size() * sizeof(size_t) +
-         ringLevels.size() * sizeof(float);
+         evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + refinedOffsets.size() * sizeof(size_t) +
+         refinedLevels.size() * sizeof(float);
 }
 
 SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh) {

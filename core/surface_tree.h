@@ -81,15 +81,19 @@ struct SurfaceTree {
   std::vector<SurfaceNode> nodes;
   std::vector<FasLeaf> fasLeaves;
   std::vector<EvBottom> evBottoms;
-  // Each ring at FAS levels 0..chainDepth[r] (xyz floats relative to its centre), for evaluating
-  // FAS leaves: level j starts at ringLevelOffsets[r] + j * 3 * ringPointCount.
+  // Each ring refined through its chain: FAS level j ≥ 1 of ring r is its refined (12n+1) set,
+  // whose first 6n+1 points are the ring of level j (cer_layout.h); xyz floats relative to the
+  // ring's centre, from refinedOffsets[r] on, level by level.
   std::vector<uint8_t> chainDepth;
-  std::vector<size_t> ringLevelOffsets;
-  std::vector<float> ringLevels;
+  std::vector<size_t> refinedOffsets;
+  std::vector<float> refinedLevels;
 
   int rootOf(int baseFace, int subFace) const { return faceFirstRoot[baseFace] + (subFace < 0 ? 0 : subFace); }
+  const float* refinedAtLevel(const RingSet& rings, size_t r, int level) const {
+    return refinedLevels.data() + refinedOffsets[r] + size_t(level - 1) * 3 * rings.shapes[r].refinedPointCount();
+  }
   const float* ringAtLevel(const RingSet& rings, size_t r, int level) const {
-    return ringLevels.data() + ringLevelOffsets[r] + size_t(level) * 3 * rings.shapes[r].ringPointCount();
+    return level == 0 ? rings.ringPoints(r) : refinedAtLevel(rings, r, level);
   }
   size_t bytes() const;
 };

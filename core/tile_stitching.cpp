@@ -152,8 +152,11 @@ struct RootStitch {
   std::vector<VertexRequest> locals;  // local vertices: inner corners, inner line points, grids
   std::vector<BoundaryCorner> corners;
   std::vector<BoundaryUse> boundaryUses;
-  std::vector<std::vector<PendingPoint>> sides;  // 4 per tile of the root (boundary ones later)
-  std::vector<uint32_t> gridFirst;               // local id of each tile's inner grid
+  // Points of the sides inside the root: side k of the root's tile t is sides[4t + k] in pool
+  // (count 0: a side on the root's boundary, joined later).
+  std::vector<PendingPoint> pool;
+  std::vector<std::pair<uint32_t, uint32_t>> sides;
+  std::vector<uint32_t> gridFirst;  // local id of each tile's inner grid
 };
 
 class Stitcher {
@@ -180,8 +183,16 @@ class Stitcher {
   std::vector<std::vector<uint32_t>> cornerIds_;   // per root: boundary corner → final vertex
   std::vector<VertexRequest> seamVertices_;        // boundary corners, then boundary line points
   uint32_t seamFirst_ = 0;
-  // Boundary sides: per tile side, its points (final ids) once the lines are joined.
-  std::vector<std::vector<PendingPoint>> boundarySides_;
+  // Sides on base edges and spokes: tile side 4t + k is boundaryRange_[4t + k] in boundaryPool_.
+  std::vector<PendingPoint> boundaryPool_;
+  std::vector<std::pair<uint32_t, uint32_t>> boundaryRange_;
+  // A side's points wherever they are.
+  std::pair<const PendingPoint*, uint32_t> sidePoints(uint32_t root, size_t k) const {
+    const auto [offset, count] = roots_[root].sides[k];
+    if (count > 0) return {roots_[root].pool.data() + offset, count};
+    const auto [boundaryOffset, boundaryCount] = boundaryRange_[4 * size_t(plan_.rootFirstTile[root]) + k];
+    return {boundaryPool_.data() + boundaryOffset, boundaryCount};
+  }
   Stitching out_;
 };
 
@@ -212,7 +223,7 @@ uint32_t Stitcher::cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y,
 void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
   const uint32_t first = plan_.rootFirstTile[root], last = plan_.rootFirstTile[root + 1];
   const SurfaceRoot& r = tree_.roots[root];
-  out.sides.resize(4 * size_t(last - first));
+  out.sides.assign(4 * size_t(last - first), {0, 0});
   // Inner corners, numbered in (x, y) order.
   std::vector<std::pair<int64_t, int64_t>> inner;
   for (uint32_t t = first; t < last; ++t) {
@@ -315,15 +326,14 @@ void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
       out.locals.push_back({line[owner].tile, uses[i].axis == 1 ? along : fixed, uses[i].axis == 1 ? fixed : along, 0});
     }
     for (size_t u = 0; u < line.size(); ++u) {
-      std::vector<PendingPoint>& side = out.sides[4 * size_t(line[u].tile - first) + line[u].side];
       const auto from = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin();
       const auto to = std::upper_bound(points.points.begin(), points.points.end(), points.hi[u]) - points.points.begin();
+      out.sides[4 * size_t(line[u].tile - first) + line[u].side] = {uint32_t(out.pool.size()), uint32_t(to - from)};
       for (auto p = from; p < to; ++p) {
         PendingPoint point = resolved[p];
         sideCoordinates(line[u], points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
-        side.push_back(point);
+        out.pool.push_back(point);
       }
-      if (line[u].sign < 0) std::reverse(side.begin(), side.end());
     }
     i = j;
   }
@@ -389,55 +399,90 @@ void Stitcher::joinBoundaries() {
     if (!(x.use.line == y.use.line)) return x.use.line < y.use.line;
     return x.use.use.tile < y.use.use.tile || (x.use.use.tile == y.use.use.tile && x.use.use.side < y.use.use.side);
   });
-  boundarySides_.resize(4 * plan_.tiles.size());
-  std::vector<LineUse> line;
-  LinePoints points;
+  // Lines, resolved on all cores; their own points numbered line by line afterwards.
+  std::vector<std::pair<size_t, size_t>> lines;  // seam ranges
   for (size_t i = 0; i < seams.size();) {
     size_t j = i;
-    line.clear();
-    while (j < seams.size() && seams[j].use.line == seams[i].use.line) line.push_back(seams[j++].use.use);
-    resolveLine(line.data(), line.size(), points);
-    std::vector<uint8_t> isEnd(points.points.size(), 0);
-    for (size_t u = 0; u < line.size(); ++u) {
-      for (const Int end : {points.lo[u], points.hi[u]}) {
-        isEnd[std::lower_bound(points.points.begin(), points.points.end(), end) - points.points.begin()] = 1;
-      }
+    while (j < seams.size() && seams[j].use.line == seams[i].use.line) ++j;
+    lines.push_back({i, j});
+    i = j;
+  }
+  struct Resolved {
+    LinePoints points;
+    std::vector<uint8_t> isEnd;
+    uint32_t ownPoints = 0, firstOwn = 0;
+    std::vector<uint32_t> useFrom, useTo;  // each use's range of points
+  };
+  std::vector<Resolved> resolved(lines.size());
+  tbb::parallel_for(size_t(0), lines.size(), [&](size_t l) {
+    Resolved& line = resolved[l];
+    std::vector<LineUse> uses;
+    for (size_t i = lines[l].first; i < lines[l].second; ++i) uses.push_back(seams[i].use.use);
+    resolveLine(uses.data(), uses.size(), line.points);
+    const std::vector<Int>& p = line.points.points;
+    line.isEnd.assign(p.size(), 0);
+    for (size_t u = 0; u < uses.size(); ++u) {
+      line.useFrom.push_back(uint32_t(std::lower_bound(p.begin(), p.end(), line.points.lo[u]) - p.begin()));
+      line.useTo.push_back(uint32_t(std::upper_bound(p.begin(), p.end(), line.points.hi[u]) - p.begin()));
+      line.isEnd[line.useFrom.back()] = line.isEnd[line.useTo.back() - 1] = 1;
     }
+    for (uint8_t end : line.isEnd) line.ownPoints += end ? 0 : 1;
+  });
+  boundaryRange_.assign(4 * plan_.tiles.size(), {0, 0});
+  uint32_t poolSize = 0, nextVertex = uint32_t(seamVertices_.size());
+  for (size_t l = 0; l < lines.size(); ++l) {
+    resolved[l].firstOwn = nextVertex;
+    nextVertex += resolved[l].ownPoints;
+    for (size_t u = 0; u < resolved[l].useFrom.size(); ++u) {
+      const LineUse& use = seams[lines[l].first + u].use.use;
+      const uint32_t count = resolved[l].useTo[u] - resolved[l].useFrom[u];
+      boundaryRange_[4 * size_t(use.tile) + use.side] = {poolSize, count};
+      poolSize += count;
+    }
+  }
+  seamVertices_.resize(nextVertex);
+  boundaryPool_.resize(poolSize);
+  tbb::parallel_for(size_t(0), lines.size(), [&](size_t l) {
+    const Resolved& line = resolved[l];
+    const LinePoints& points = line.points;
+    const size_t uses = line.useFrom.size();
+    auto useOf = [&](size_t u) -> const LineUse& { return seams[lines[l].first + u].use.use; };
     std::vector<uint32_t> ids(points.points.size());
     const std::vector<uint32_t> order = byStart(points);
     size_t cursor = 0;
+    uint32_t nextOwn = line.firstOwn;
     for (size_t p = 0; p < points.points.size(); ++p) {
       const Int value = points.points[p];
-      if (isEnd[p]) {
-        const SeamPoint key = pointOnLine(seams_, seams[i].use.line, int64_t((value << kLineBits) / points.denominator));
+      if (line.isEnd[p]) {
+        const SeamPoint key = pointOnLine(seams_, seams[lines[l].first].use.line, int64_t((value << kLineBits) / points.denominator));
         ids[p] = uint32_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
         continue;
       }
       const size_t owner = holder(points, order, cursor, value);
-      const LineUse& use = line[owner];
+      const LineUse& use = useOf(owner);
       const Tile& tile = plan_.tiles[use.tile];
       double along, back;
       sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
-      const double s = tile.size();
+      const double size = tile.size();
       const bool alongU = use.side == 0 || use.side == 2;
-      const double u = alongU ? (double(tile.ix) + along) * s : (double(tile.ix) + (use.side == 1)) * s;
-      const double v = alongU ? (double(tile.iy) + (use.side == 2)) * s : (double(tile.iy) + along) * s;
-      ids[p] = uint32_t(seamVertices_.size());
-      seamVertices_.push_back({use.tile, u, v, 0});
+      const double u = alongU ? (double(tile.ix) + along) * size : (double(tile.ix) + (use.side == 1)) * size;
+      const double v = alongU ? (double(tile.iy) + (use.side == 2)) * size : (double(tile.iy) + along) * size;
+      ids[p] = nextOwn++;
+      seamVertices_[ids[p]] = {use.tile, u, v, 0};
     }
-    for (size_t u = 0; u < line.size(); ++u) {
-      std::vector<PendingPoint>& side = boundarySides_[4 * size_t(line[u].tile) + line[u].side];
-      const Seam& seam = seams[i + u];
-      const auto from = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin();
-      const auto to = std::upper_bound(points.points.begin(), points.points.end(), points.hi[u]) - points.points.begin();
-      for (auto p = from; p < to; ++p) {
+    for (size_t u = 0; u < uses; ++u) {
+      const Seam& seam = seams[lines[l].first + u];
+      const LineUse& use = seam.use.use;
+      PendingPoint* out = boundaryPool_.data() + boundaryRange_[4 * size_t(use.tile) + use.side].first;
+      const uint32_t from = line.useFrom[u], to = line.useTo[u];
+      for (uint32_t p = from; p < to; ++p) {
         PendingPoint point{ids[p], Ref::kLinePoint, -1, 0, 0};
-        sideCoordinates(line[u], points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
+        sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
         if (p == from || p + 1 == to) {
           // The side's own corner: its root decides the split (a wedge at a base vertex, the face
           // inside a sharp edge).
-          const Tile& tile = plan_.tiles[line[u].tile];
-          const int k = line[u].side;
+          const Tile& tile = plan_.tiles[use.tile];
+          const int k = use.side;
           const bool high = point.at == 1;
           const uint64_t ix = tile.ix + ((k == 1) || ((k == 0 || k == 2) && high) ? 1 : 0);
           const uint64_t iy = tile.iy + ((k == 2) || ((k == 1 || k == 3) && high) ? 1 : 0);
@@ -446,12 +491,10 @@ void Stitcher::joinBoundaries() {
         } else if (seam.use.sharp) {
           point.qualifier = seam.use.face;
         }
-        side.push_back(point);
+        out[p - from] = point;
       }
-      if (line[u].sign < 0) std::reverse(side.begin(), side.end());
     }
-    i = j;
-  }
+  });
 }
 
 // Final vertex ids: each root's own vertices root by root, then the seams' points.
@@ -475,8 +518,7 @@ void Stitcher::assemble() {
   for (uint32_t r = 0; r < roots_.size(); ++r) {
     const uint32_t first = plan_.rootFirstTile[r];
     for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
-      const size_t s = 4 * size_t(first) + k;
-      out_.sideFirst[s + 1] = uint32_t(roots_[r].sides[k].size() + boundarySides_[s].size());
+      out_.sideFirst[4 * size_t(first) + k + 1] = sidePoints(r, k).second;
     }
     for (size_t t = 0; t < roots_[r].gridFirst.size(); ++t) out_.gridFirst[first + t] = localFirst_[r] + roots_[r].gridFirst[t];
   }
@@ -486,15 +528,18 @@ void Stitcher::assemble() {
     const uint32_t first = plan_.rootFirstTile[r];
     for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
       const size_t s = 4 * size_t(first) + k;
-      const std::vector<PendingPoint>& side = roots_[r].sides[k].empty() ? boundarySides_[s] : roots_[r].sides[k];
+      const auto [side, count] = sidePoints(uint32_t(r), k);
+      // Lines run either way along a side: stored with the side's coordinate increasing.
+      const bool reversed = count > 1 && side[0].at > side[count - 1].at;
       SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
-      for (size_t p = 0; p < side.size(); ++p) {
-        const PendingPoint& point = side[p];
+      for (size_t q = 0; q < count; ++q) {
+        const size_t p = reversed ? count - 1 - q : q;
+        const PendingPoint& point = side[q];
         uint32_t id = point.id;
         if (point.kind == Ref::kLocal) id += localFirst_[r];
         if (point.kind == Ref::kCorner) id = seamFirst_ + cornerIds_[r][point.id];
         if (point.kind == Ref::kLinePoint) id += seamFirst_;
-        out[p] = {id, point.at, point.back};
+        out[p] = {id, point.at, point.back, point.qualifier};
       }
     }
   });
@@ -510,15 +555,11 @@ void Stitcher::splitNormals() {
     int side;
   };
   std::vector<Claim> claims;
-  for (uint32_t r = 0; r < roots_.size(); ++r) {
-    const uint32_t first = plan_.rootFirstTile[r];
-    for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
-      const size_t s = 4 * size_t(first) + k;
-      const std::vector<PendingPoint>& side = roots_[r].sides[k].empty() ? boundarySides_[s] : roots_[r].sides[k];
-      for (size_t p = 0; p < side.size(); ++p) {
-        if (side[p].qualifier < 0) continue;
-        const uint32_t index = out_.sideFirst[s] + uint32_t(p);
-        claims.push_back({out_.sidePoints[index].vertex, side[p].qualifier, uint32_t(first + k / 4), index, int(k % 4)});
+  for (size_t t = 0; t < plan_.tiles.size(); ++t) {
+    for (int k = 0; k < 4; ++k) {
+      for (uint32_t index = out_.sideFirst[4 * t + k]; index < out_.sideFirst[4 * t + k + 1]; ++index) {
+        const SidePoint& point = out_.sidePoints[index];
+        if (point.qualifier >= 0) claims.push_back({point.vertex, point.qualifier, uint32_t(t), index, k});
       }
     }
   }

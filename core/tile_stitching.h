@@ -31,6 +31,7 @@ struct VertexRequest {
 struct SidePoint {
   uint32_t vertex;
   double at, back;
+  int qualifier;  // while stitching: which side of a crease the tile is on (-1: no split)
 };
 
 struct Stitching {
