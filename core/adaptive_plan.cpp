@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/adaptive_surface.h"
 #include "core/tolerance_model.h"
 
 namespace tessera {
@@ -27,13 +28,13 @@ struct Rates {
 
 // The fewest cells ru · rv with (w² M_uu + 2 w h M_uv + h² M_vv) / 8 ≤ ε for w = s/ru, h = s/rv
 // (docs/ADAPTIVE.md §2): for each ru the smallest rv solves a quadratic in 1/rv.
-Rates ratesFor(const Curvature& m, double size, double epsilon) {
+Rates ratesFor(const Curvature& m, double size, double epsilon, int minRate = 1) {
   Rates best;
   if (!m.finite() || !(epsilon > 0)) return best;
   const double a = m.uu * size * size, b = m.uv * size * size, c = m.vv * size * size;
   const double target = 8 * epsilon;
   int64_t bestCells = std::numeric_limits<int64_t>::max();
-  for (int ru = 1; ru <= kMaxTileRate && ru < bestCells; ++ru) {
+  for (int ru = minRate; ru <= kMaxTileRate && ru < bestCells; ++ru) {
     const double k = target - a / (double(ru) * ru);
     if (k <= 0) continue;
     double rvReal = 1;
@@ -43,7 +44,7 @@ Rates ratesFor(const Curvature& m, double size, double epsilon) {
     } else if (b > 0) {
       rvReal = 2 * b / (k * ru);
     }
-    int rv = std::max(1, int(std::ceil(std::min(rvReal, double(kMaxTileRate + 1)) - 1e-9)));
+    int rv = std::max(minRate, int(std::ceil(std::min(rvReal, double(kMaxTileRate + 1)) - 1e-9)));
     while (rv <= kMaxTileRate && interpolationBound(m, size / ru, size / rv) > epsilon) ++rv;
     if (rv > kMaxTileRate) continue;
     const int64_t cells = int64_t(ru) * rv;
@@ -89,7 +90,7 @@ class Planner {
  public:
   Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
       : tree_(tree), patches_(patches), options_(options), tolerance_(options, patches) {}
-  void planRoot(uint32_t rootNode, std::vector<Tile>& out) const;
+  void planRoot(uint32_t root, std::vector<Tile>& out) const;
 
  private:
   struct Candidate {
@@ -110,7 +111,8 @@ class Planner {
   bool splittable(const Candidate& c) const;
   void split(const Candidate& c, Candidate children[4]) const;
   Rates gridFor(const Candidate& c) const;
-  Rates evGridFor(const NodeSquare& n, double epsilon) const;
+  Rates evGridFor(const NodeSquare& n, double epsilon, int minRate) const;
+  bool touchesPinchedCorner(const Candidate& c) const;
   double evTileBound(const NodeSquare& n, int ru, int rv) const;
   Curvature outsideCorners(const NodeSquare& n, const NodeSquare& tile, int ru, int rv) const;
   void plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
@@ -121,6 +123,7 @@ class Planner {
   const PatchSet& patches_;
   const TessellationOptions& options_;
   const ToleranceModel tolerance_;
+  mutable uint8_t rootPinched_ = 0;  // the current root's pinched corners (planRoot sets them)
 };
 
 Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
@@ -218,12 +221,12 @@ double Planner::evTileBound(const NodeSquare& n, int ru, int rv) const {
 // Rates for a tile holding EVs from the curvature outside the corner cells (which grows as the
 // cells shrink, so iterate to a fixed point) and the corner terms; doubling the rates moves the
 // corner cells into deeper EV nodes with tighter stand-ins.
-Rates Planner::evGridFor(const NodeSquare& n, double epsilon) const {
-  int ru = 1, rv = 1;
+Rates Planner::evGridFor(const NodeSquare& n, double epsilon, int minRate) const {
+  int ru = minRate, rv = minRate;
   for (int step = 0; step < 24; ++step) {
     const Curvature outside = outsideCorners(n, n, ru, rv);
     if (outside.finite()) {
-      const Rates r = ratesFor(outside, n.size(), epsilon);
+      const Rates r = ratesFor(outside, n.size(), epsilon, minRate);
       if (!r.feasible()) return {};
       if (r.ru <= ru && r.rv <= rv) break;
       ru = std::max(ru, r.ru), rv = std::max(rv, r.rv);
@@ -243,9 +246,25 @@ Rates Planner::evGridFor(const NodeSquare& n, double epsilon) const {
 // The fewest triangles any of the bounds allows (docs/ADAPTIVE.md §2-4): the triangle pair
 // through the corners, the curvature bound, the stand-in (2r + its curvature bound), and
 // around EVs the corner cells.
+// A root corner where the face meets one other face along both of its edges there (a valence-2
+// vertex): a one-cell tile would join the two edges by a triangle the other face repeats back to
+// back, so tiles there keep an inner grid point.
+bool Planner::touchesPinchedCorner(const Candidate& c) const {
+  const uint8_t pinched = rootPinched_;
+  if (pinched == 0) return false;
+  const uint64_t last = (uint64_t(1) << c.level) - 1;
+  const bool at[4] = {c.ix == 0 && c.iy == 0, c.ix == last && c.iy == 0, c.ix == last && c.iy == last,
+                      c.ix == 0 && c.iy == last};
+  for (int k = 0; k < 4; ++k) {
+    if ((pinched >> k & 1) && at[k]) return true;
+  }
+  return false;
+}
+
 Rates Planner::gridFor(const Candidate& c) const {
   const double epsilon = epsilonOf(c);
-  if (c.pairWithBows <= epsilon) return {1, 1, c.pairWithBows};
+  const int minRate = touchesPinchedCorner(c) ? 2 : 1;
+  if (minRate == 1 && c.pairWithBows <= epsilon) return {1, 1, c.pairWithBows};
   Rates best;
   auto consider = [&best](const Rates& r) {
     if (!r.feasible()) return;
@@ -255,12 +274,12 @@ Rates Planner::gridFor(const Candidate& c) const {
     }
   };
   if (!c.below && tree_.nodes[c.real.node].evCorners) {
-    consider(evGridFor(c.real, epsilon));
+    consider(evGridFor(c.real, epsilon, minRate));
   } else {
-    consider(ratesFor(c.m, c.size(), epsilon));
+    consider(ratesFor(c.m, c.size(), epsilon, minRate));
   }
   if (c.standIn > 0 && epsilon > 2 * c.standIn) {
-    Rates r = ratesFor(c.gm, c.size(), epsilon - 2 * c.standIn);
+    Rates r = ratesFor(c.gm, c.size(), epsilon - 2 * c.standIn, minRate);
     if (r.feasible()) r.bound += 2 * c.standIn;
     consider(r);
   }
@@ -302,21 +321,29 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
 }
 
-void Planner::planRoot(uint32_t rootNode, std::vector<Tile>& out) const {
-  const Candidate root = realCandidate({rootNode, 0, 0, 0});
-  plan(root, gridFor(root), out);
+void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
+  const SurfaceRoot& r = tree_.roots[root];
+  const SeamTopology& seams = patches_.adaptive->seams;
+  rootPinched_ = 0;
+  if (r.subFace < 0) {
+    for (int k = 0; k < 4; ++k) rootPinched_ |= uint8_t(seams.pinched(r.baseFace, k) << k);
+  } else {
+    rootPinched_ = uint8_t(seams.pinched(r.baseFace, r.subFace));
+  }
+  const Candidate top = realCandidate({r.node, 0, 0, 0});
+  plan(top, gridFor(top), out);
 }
 
 }  // namespace
 
 AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options) {
   validateTessellationOptions(options);
-  const Planner planner(tree, patches, options);
   std::vector<std::vector<Tile>> perRoot(tree.roots.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), 16), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
+    const Planner planner(tree, patches, options);  // one per task: it keeps the current root's corners
     for (size_t r = range.begin(); r != range.end(); ++r) {
-      if (tree.roots[r].node != kNoNode) planner.planRoot(tree.roots[r].node, perRoot[r]);
+      if (tree.roots[r].node != kNoNode) planner.planRoot(uint32_t(r), perRoot[r]);
     }
   });
   AdaptivePlan plan;

@@ -11,7 +11,7 @@ namespace tessera {
 size_t AdaptiveSurface::bytes() const {
   auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
   return tree.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
-         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge);
+         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched);
 }
 
 namespace {
@@ -42,7 +42,9 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
       mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
     }
   });
+  mesh.vertexPoint.resize(count);
   for (size_t i = 0; i < count; ++i) {
+    mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
     if (stitching.vertices[i].positionOf != i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
   }
 }
@@ -67,6 +69,46 @@ void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, Tria
     mesh.indices.insert(mesh.indices.end(), indices[r].begin(), indices[r].end());
     mesh.trianglePiece.insert(mesh.trianglePiece.end(), tiles[r].begin(), tiles[r].end());
   }
+}
+
+// Each triangle's root and its corners' (u, v) there: a corner is the tile's inner grid point
+// or one of its sides' points (before fold copies are made).
+void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan& plan, const Stitching& stitching,
+                              const std::vector<uint32_t>& tileRoot, TriangleMesh& mesh) {
+  const size_t triangles = mesh.triangleCount();
+  mesh.triangleST.resize(6 * triangles);
+  mesh.triangleFace.resize(triangles);
+  mesh.triangleSubFace.resize(triangles);
+  tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
+    const uint32_t tileIndex = mesh.trianglePiece[t];
+    const Tile& tile = plan.tiles[tileIndex];
+    const SurfaceRoot& root = surface.tree.roots[tileRoot[tileIndex]];
+    mesh.triangleFace[t] = root.baseFace, mesh.triangleSubFace[t] = root.subFace;
+    const double size = tile.size();
+    const uint32_t gridFirst = stitching.gridFirst[tileIndex];
+    const uint32_t gridCount = uint32_t((tile.ru - 1) * (tile.rv - 1));
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = mesh.indices[3 * t + k];
+      double x = -1, y = -1;
+      if (v >= gridFirst && v < gridFirst + gridCount) {
+        const uint32_t g = v - gridFirst;
+        x = double(g % (tile.ru - 1) + 1) / tile.ru, y = double(g / (tile.ru - 1) + 1) / tile.rv;
+      }
+      for (int side = 0; side < 4 && x < 0; ++side) {
+        size_t count;
+        const SidePoint* points = stitching.side(tileIndex, side, count);
+        for (size_t p = 0; p < count; ++p) {
+          if (points[p].vertex != v) continue;
+          const double at = points[p].at;
+          x = side == 0 || side == 2 ? at : (side == 1 ? 1 : 0);
+          y = side == 1 || side == 3 ? at : (side == 2 ? 1 : 0);
+          break;
+        }
+      }
+      mesh.triangleST[6 * t + 2 * k] = (double(tile.ix) + x) * size;
+      mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.iy) + y) * size;
+    }
+  });
 }
 
 // A fold narrower than the tiles there (the surface turns back within less than ε resolves)
@@ -98,6 +140,7 @@ void splitFoldNormals(TriangleMesh& mesh) {
     mesh.vertexFace.push_back(mesh.vertexFace[v]);
     mesh.vertexSubFace.push_back(mesh.vertexSubFace[v]);
     mesh.vertexUv.insert(mesh.vertexUv.end(), {mesh.vertexUv[2 * v], mesh.vertexUv[2 * v + 1]});
+    mesh.vertexPoint.push_back(mesh.vertexPoint[v]);
     return uint32_t(mesh.positions.size() - 1);
   };
   for (size_t first = 0; first < flagged.size();) {
@@ -119,7 +162,7 @@ void splitFoldNormals(TriangleMesh& mesh) {
 }  // namespace
 
 TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
-                                const std::function<void()>& checkpoint) {
+                                bool recordParameters, const std::function<void()>& checkpoint) {
   const Stitching stitching = stitchTiles(plan, surface.tree, surface.seams, checkpoint);
   std::vector<uint32_t> tileRoot(plan.tiles.size());
   for (size_t r = 0; r + 1 < plan.rootFirstTile.size(); ++r) {
@@ -128,6 +171,7 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
   TriangleMesh mesh;
   evaluateVertices(patches, surface, plan, stitching, tileRoot, mesh, checkpoint);
   triangulateTiles(plan, stitching, mesh, checkpoint);
+  if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
   splitFoldNormals(mesh);
   return mesh;
 }

@@ -13,8 +13,8 @@
 namespace tessera {
 
 // trianglePiece holds each triangle's tile; vertexFace/vertexSubFace/vertexUv where each vertex
-// was evaluated; triangleST is left empty.
+// was evaluated; with recordParameters, each triangle's root and its corners' (u, v) there.
 TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
-                                const std::function<void()>& checkpoint = {});
+                                bool recordParameters = false, const std::function<void()>& checkpoint = {});
 
 }  // namespace tessera

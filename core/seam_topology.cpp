@@ -39,6 +39,21 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
     if (hole[f]) continue;
     for (int k = 0; k < faceSizes[f]; ++k) edgeFaces[ordered(corner(f, k), corner(f, k + 1))].push_back(f);
   }
+  cornerPinched.assign(faceVertices.size(), 0);
+  for (int f = 0; f < int(faceSizes.size()); ++f) {
+    if (hole[f]) continue;
+    for (int k = 0; k < faceSizes[f]; ++k) {
+      auto other = [&](int a, int b) {
+        const auto& shared = edgeFaces[ordered(a, b)];
+        for (int g : shared) {
+          if (g != f) return g;
+        }
+        return -1;
+      };
+      const int before = other(corner(f, k - 1), corner(f, k)), after = other(corner(f, k), corner(f, k + 1));
+      cornerPinched[faceOffsets[f] + k] = before >= 0 && before == after;
+    }
+  }
   std::vector<int> parent(faceSizes.size());
   cornerWedge.assign(faceVertices.size(), -1);
   std::map<int, std::vector<int>> vertexFaces;

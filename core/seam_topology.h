@@ -53,6 +53,8 @@ struct SeamTopology {
   std::vector<int> faceSizes, faceVertices, faceOffsets;
   std::vector<std::pair<int, int>> sharpEdges;  // infinitely sharp base edges (lo, hi), sorted
   std::vector<int> cornerWedge;                 // per face corner: its wedge id, or -1 (one normal)
+  // Per face corner: both edges there are shared with the same other face (a valence-2 vertex).
+  std::vector<uint8_t> cornerPinched;
 
   explicit SeamTopology(const ControlMesh& mesh);
   SeamTopology() = default;
@@ -61,6 +63,7 @@ struct SeamTopology {
     return faceVertices[faceOffsets[face] + ((k % n) + n) % n];
   }
   bool sharp(int v0, int v1) const;
+  bool pinched(int face, int k) const { return cornerPinched[faceOffsets[face] + k] != 0; }
   // Wedge of corner k of face f (the smallest face id of the wedge), -1 where one normal serves
   // every face around the vertex.
   int wedge(int face, int k) const {

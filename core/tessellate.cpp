@@ -29,7 +29,7 @@ TessellationResult tessellateToTolerance(const PatchSet& patches, const Tessella
                "; raise the tolerance or the triangle budget");
   }
   start = std::chrono::steady_clock::now();
-  result.mesh = tessellateAdaptive(patches, surface, plan, options.checkpoint);
+  result.mesh = tessellateAdaptive(patches, surface, plan, options.recordParameters, options.checkpoint);
   result.summary.tessellateMs = millisecondsSince(start);
   TessellationSummary& s = result.summary;
   s.triangles = int64_t(result.mesh.triangleCount());

@@ -22,8 +22,14 @@ struct TriangleMesh {
   // -1, u, v): lets tests compare every vertex and triangle with an exact evaluator.
   std::vector<int> vertexFace, vertexSubFace;
   std::vector<double> vertexUv;  // u, v per vertex
-  std::vector<uint32_t> trianglePiece;  // the plan piece each triangle belongs to
-  std::vector<double> triangleST;       // with recordParameters: (s, t) of each corner in its piece
+  // Adaptive path: the vertex whose position each vertex repeats bit for bit with a normal of its
+  // own (the other side of a crease or of a fold narrower than ε), itself otherwise.
+  std::vector<uint32_t> vertexPoint;
+  std::vector<uint32_t> trianglePiece;  // the plan piece (adaptive: the tile) each triangle belongs to
+  // With recordParameters: (s, t) of each corner in its piece; on the adaptive path (u, v) in the
+  // root (base face, quad sub-face or -1) that triangleFace, triangleSubFace name.
+  std::vector<double> triangleST;
+  std::vector<int> triangleFace, triangleSubFace;
 
   size_t triangleCount() const { return indices.size() / 3; }
 };
