@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "core/adaptive_surface.h"
 #include "core/tolerance_model.h"
@@ -22,6 +23,7 @@ constexpr int kMaxTileLevel = 48;
 struct Rates {
   int ru = 1, rv = 1;
   double bound = kInfinity;
+  bool optimistic = false;  // a (1, 1) pair whose sides must stay free of points beside the corners
   bool feasible() const { return bound < kInfinity; }
   int64_t triangles() const { return 2 * int64_t(ru) * rv; }
 };
@@ -56,19 +58,17 @@ Rates ratesFor(const Curvature& m, double size, double epsilon, int minRate = 1)
   return best;
 }
 
-// The (1, 1) grid's bound for an exact piece (SurfaceNode::pairBound with r = 0, plus the
-// largest side bow).
-double exactPairWithBows(const BezierNet& net) {
+// The (1, 1) grid's bounds for an exact piece (SurfaceNode::pairBound and sideBow with r = 0).
+void exactPairBounds(const BezierNet& net, double& pair, double bows[4]) {
   Vec3d corners[4];
   for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
   const Vec3d twist = corners[0] - corners[1] + corners[2] - corners[3];
-  double bow = 0;
   for (int side = 0; side < 4; ++side) {
     int from, to;
     sideCorners(side, from, to);
-    bow = std::max(bow, sideChordDistance(net, side, corners[from], corners[to]));
+    bows[side] = sideChordDistance(net, side, corners[from], corners[to]) * (1 + 1e-9);
   }
-  return (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4 + bow) * (1 + 1e-9);
+  pair = (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4) * (1 + 1e-9);
 }
 
 // Corner c of a square: which side it lies on along u and along v.
@@ -90,7 +90,7 @@ class Planner {
  public:
   Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
       : tree_(tree), patches_(patches), options_(options), tolerance_(options, patches) {}
-  void planRoot(uint32_t root, std::vector<Tile>& out) const;
+  void planRoot(uint32_t root, const TileSquare* conservative, size_t conservativeCount, std::vector<Tile>& out) const;
 
  private:
   struct Candidate {
@@ -102,8 +102,10 @@ class Planner {
     Curvature m;          // exact curvature bound (infinite around an EV)
     double standIn = 0;    // r of the stand-in g, and g's curvature
     Curvature gm;
-    double pairWithBows = 0;  // the (1, 1) grid's bound whatever points its sides get
+    double pair = 0;     // the (1, 1) grid's bound with no points on its sides but its corners
+    double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
     float lo[3], hi[3];
+    double pairWithBows() const { return pair + *std::max_element(bows, bows + 4); }
     double size() const { return std::ldexp(1.0, -level); }
   };
   Candidate realCandidate(const NodeSquare& n) const;
@@ -113,6 +115,7 @@ class Planner {
   Rates gridFor(const Candidate& c) const;
   Rates evGridFor(const NodeSquare& n, double epsilon, int minRate) const;
   bool touchesPinchedCorner(const Candidate& c) const;
+  bool conservative(const Candidate& c) const;
   double evTileBound(const NodeSquare& n, int ru, int rv) const;
   Curvature outsideCorners(const NodeSquare& n, const NodeSquare& tile, int ru, int rv) const;
   void plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
@@ -123,8 +126,19 @@ class Planner {
   const PatchSet& patches_;
   const TessellationOptions& options_;
   const ToleranceModel tolerance_;
-  mutable uint8_t rootPinched_ = 0;  // the current root's pinched corners (planRoot sets them)
+  // The current root's pinched corners and conservative squares (planRoot sets them).
+  mutable uint8_t rootPinched_ = 0;
+  mutable const TileSquare* conservative_ = nullptr;
+  mutable size_t conservativeCount_ = 0;
 };
+
+bool Planner::conservative(const Candidate& c) const {
+  for (size_t k = 0; k < conservativeCount_; ++k) {
+    const TileSquare& q = conservative_[k];
+    if (q.level <= c.level && (c.ix >> (c.level - q.level)) == q.ix && (c.iy >> (c.level - q.level)) == q.iy) return true;
+  }
+  return false;
+}
 
 Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
   const SurfaceNode& node = tree_.nodes[n.node];
@@ -134,7 +148,8 @@ Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
   c.m = node.evCorners ? Curvature{kInfinity, kInfinity, kInfinity} : node.bound();
   c.standIn = node.standInBound;
   c.gm = node.standInCurvatureBound();
-  c.pairWithBows = double(node.pairBound) + *std::max_element(node.sideBow, node.sideBow + 4);
+  c.pair = node.pairBound;
+  std::copy(node.sideBow, node.sideBow + 4, c.bows);
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
   return c;
@@ -150,7 +165,7 @@ Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const Bez
   c.m = netCurvature(c.net.data()).scaled(std::ldexp(1.0, 2 * c.level));
   c.standIn = 0;
   c.gm = c.m;
-  c.pairWithBows = exactPairWithBows(c.net);
+  exactPairBounds(c.net, c.pair, c.bows);
   for (int a = 0; a < 3; ++a) {
     double lo = c.net[0][a], hi = lo;
     for (const Vec3d& p : c.net) lo = std::min(lo, p[a]), hi = std::max(hi, p[a]);
@@ -264,7 +279,10 @@ bool Planner::touchesPinchedCorner(const Candidate& c) const {
 Rates Planner::gridFor(const Candidate& c) const {
   const double epsilon = epsilonOf(c);
   const int minRate = touchesPinchedCorner(c) ? 2 : 1;
-  if (minRate == 1 && c.pairWithBows <= epsilon) return {1, 1, c.pairWithBows};
+  if (minRate == 1 && c.pairWithBows() <= epsilon) return {1, 1, c.pairWithBows()};
+  // Whether the sides get points beside the corners is known only once the seams are stitched:
+  // the pair alone, to be checked then (planAdaptive's note).
+  if (minRate == 1 && c.pair <= epsilon && !conservative(c)) return {1, 1, c.pair, true};
   Rates best;
   auto consider = [&best](const Rates& r) {
     if (!r.feasible()) return;
@@ -293,6 +311,10 @@ void Planner::emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   tile.ru = grid.ru, tile.rv = grid.rv;
   tile.bound = float(grid.bound);
   tile.tolerance = float(epsilonOf(c));
+  if (grid.optimistic) {
+    tile.pendingPair = true;
+    for (int k = 0; k < 4; ++k) tile.sideBow[k] = float(c.bows[k]);
+  }
   out.push_back(tile);
 }
 
@@ -321,7 +343,9 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
 }
 
-void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
+void Planner::planRoot(uint32_t root, const TileSquare* conservative, size_t conservativeCount,
+                       std::vector<Tile>& out) const {
+  conservative_ = conservative, conservativeCount_ = conservativeCount;
   const SurfaceRoot& r = tree_.roots[root];
   const SeamTopology& seams = patches_.adaptive->seams;
   rootPinched_ = 0;
@@ -336,30 +360,50 @@ void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
 
 }  // namespace
 
-AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options) {
+void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
+               const std::vector<TileSquare>& conservative, const std::vector<uint32_t>& roots, RootTiles& tiles) {
   validateTessellationOptions(options);
-  std::vector<std::vector<Tile>> perRoot(tree.roots.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), 16), [&](const auto& range) {
+  tiles.resize(tree.roots.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), 16), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
     const Planner planner(tree, patches, options);  // one per task: it keeps the current root's corners
-    for (size_t r = range.begin(); r != range.end(); ++r) {
-      if (tree.roots[r].node != kNoNode) planner.planRoot(uint32_t(r), perRoot[r]);
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const uint32_t r = roots[i];
+      tiles[r].clear();
+      if (tree.roots[r].node == kNoNode) continue;
+      const auto first = std::lower_bound(conservative.begin(), conservative.end(), r,
+                                          [](const TileSquare& q, uint32_t root) { return q.root < root; });
+      auto last = first;
+      while (last != conservative.end() && last->root == r) ++last;
+      planner.planRoot(r, conservative.data() + (first - conservative.begin()), size_t(last - first), tiles[r]);
     }
   });
+}
+
+AdaptivePlan flattenPlan(const RootTiles& tiles) {
   AdaptivePlan plan;
-  plan.rootFirstTile.reserve(tree.roots.size() + 1);
+  plan.rootFirstTile.reserve(tiles.size() + 1);
   plan.tolerance = kInfinity;
-  for (const std::vector<Tile>& tiles : perRoot) {
+  for (const std::vector<Tile>& root : tiles) {
     plan.rootFirstTile.push_back(uint32_t(plan.tiles.size()));
-    for (const Tile& t : tiles) {
+    for (const Tile& t : root) {
       plan.guaranteedBound = std::max(plan.guaranteedBound, double(t.bound));
       plan.tolerance = std::min(plan.tolerance, double(t.tolerance));
       plan.gridTriangles += 2 * int64_t(t.ru) * t.rv;
     }
-    plan.tiles.insert(plan.tiles.end(), tiles.begin(), tiles.end());
+    plan.tiles.insert(plan.tiles.end(), root.begin(), root.end());
   }
   plan.rootFirstTile.push_back(uint32_t(plan.tiles.size()));
   return plan;
+}
+
+AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
+                          const std::vector<TileSquare>& conservative) {
+  std::vector<uint32_t> roots(tree.roots.size());
+  std::iota(roots.begin(), roots.end(), 0u);
+  RootTiles tiles;
+  planRoots(tree, patches, options, conservative, roots, tiles);
+  return flattenPlan(tiles);
 }
 
 }  // namespace tessera

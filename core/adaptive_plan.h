@@ -22,6 +22,10 @@ struct Tile {
   int ru = 1, rv = 1;   // cells along u and v
   float bound = 0;      // proven distance to the limit surface of the triangles it yields
   float tolerance = 0;  // the ε it was planned for
+  // A one-cell tile planned on the bound through its corners alone: once its sides' points are
+  // known, `bound` must add the bow of every side that got points beside its corners.
+  bool pendingPair = false;
+  float sideBow[4] = {0, 0, 0, 0};
 
   double size() const { return std::ldexp(1.0, -level); }
 };
@@ -37,6 +41,24 @@ struct AdaptivePlan {
 // Tiles cap their rates at this many cells a side and split beyond.
 inline constexpr int kMaxTileRate = 64;
 
-AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options);
+// A square of a root (sorted by root): planning inside it makes no optimistic one-cell tiles.
+struct TileSquare {
+  uint32_t root;
+  int level;
+  uint64_t ix, iy;
+  friend bool operator<(const TileSquare& a, const TileSquare& b) { return a.root < b.root; }
+};
+
+// One-cell tiles are planned optimistically (pendingPair) except inside `conservative`; the
+// caller checks them against their neighbours and plans again where one fails
+// (adaptive_tessellator.h).
+AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
+                          const std::vector<TileSquare>& conservative = {});
+
+// The same, root by root: plans `roots` into tiles[root] (tiles is sized to every root).
+using RootTiles = std::vector<std::vector<Tile>>;
+void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
+               const std::vector<TileSquare>& conservative, const std::vector<uint32_t>& roots, RootTiles& tiles);
+AdaptivePlan flattenPlan(const RootTiles& tiles);
 
 }  // namespace tessera

@@ -4,12 +4,14 @@
 
 #include "core/seam_topology.h"
 #include "core/surface_tree.h"
+#include "core/tile_neighbors.h"
 
 namespace tessera {
 
 struct AdaptiveSurface {
   SurfaceTree tree;
   SeamTopology seams;
+  RootSeams rootSeams;
 
   size_t bytes() const;
 };

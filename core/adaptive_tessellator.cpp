@@ -1,8 +1,13 @@
 #include "core/adaptive_tessellator.h"
+#include <cstdio>
+#include <cstdlib>
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <numeric>
+
+#include "core/error.h"
 #include "core/tile_stitching.h"
 #include "core/tile_triangulation.h"
 
@@ -27,7 +32,8 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
   mesh.vertexFace.resize(count);
   mesh.vertexSubFace.resize(count);
   mesh.vertexUv.resize(2 * count);
-  tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators(surface.tree, patches);
+  // Built per thread from references (the arguments form would copy the tree).
+  tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& range) {
     if (checkpoint) checkpoint();
     SurfaceEvaluator& evaluator = evaluators.local();
@@ -159,11 +165,126 @@ void splitFoldNormals(TriangleMesh& mesh) {
   }
 }
 
+// A pending one-cell tile's bound: the pair plus the largest bow of a side that gets points
+// beside its corners (docs/ADAPTIVE.md §3).
+float pairBound(const Tile& tile, const bool points[4]) {
+  float bow = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (points[k]) bow = std::max(bow, tile.sideBow[k]);
+  }
+  return tile.bound + bow;
+}
+
+// Checks the pending tiles of `roots` against their neighbours; returns the squares of those
+// whose bound breaks their ε.
+std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors& neighbors,
+                                     const std::vector<uint32_t>& roots) {
+  std::vector<std::vector<TileSquare>> failed(roots.size());
+  tbb::parallel_for(size_t(0), roots.size(), [&](size_t i) {
+    const uint32_t r = roots[i];
+    for (uint32_t t = 0; t < tiles[r].size(); ++t) {
+      const Tile& tile = tiles[r][t];
+      if (!tile.pendingPair) continue;
+      bool points[4];
+      for (int k = 0; k < 4; ++k) points[k] = neighbors.sideGetsPoints(r, t, k);
+      if (pairBound(tile, points) > tile.tolerance) failed[i].push_back({r, tile.level, tile.ix, tile.iy});
+    }
+  });
+  std::vector<TileSquare> all;
+  for (const auto& list : failed) all.insert(all.end(), list.begin(), list.end());
+  return all;
+}
+
+// The roots whose tiles can see a change in these: themselves and those across their sides.
+std::vector<uint32_t> affectedRoots(const RootSeams& seams, const std::vector<TileSquare>& changed) {
+  std::vector<uint32_t> roots;
+  for (const TileSquare& q : changed) {
+    roots.push_back(q.root);
+    for (int k = 0; k < 4; ++k) {
+      for (uint32_t i = seams.first[4 * size_t(q.root) + k]; i < seams.first[4 * size_t(q.root) + k + 1]; ++i) {
+        roots.push_back(seams.spans[i].root);
+      }
+    }
+  }
+  std::sort(roots.begin(), roots.end());
+  roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
+  return roots;
+}
+
+// Settles every pending tile's bound from its sides as stitched; false if one breaks its ε (the
+// prediction missed a point: not expected, but then planning goes on conservatively there).
+bool settlePending(AdaptivePlan& plan, const Stitching& stitching, std::vector<TileSquare>& failed) {
+  plan.guaranteedBound = 0;
+  size_t root = 0;
+  for (size_t t = 0; t < plan.tiles.size(); ++t) {
+    Tile& tile = plan.tiles[t];
+    while (plan.rootFirstTile[root + 1] <= t) ++root;
+    if (tile.pendingPair) {
+      bool points[4];
+      for (int k = 0; k < 4; ++k) {
+        size_t count;
+        stitching.side(t, k, count);
+        points[k] = count > 2;
+      }
+      tile.bound = pairBound(tile, points);
+      tile.pendingPair = false;
+      if (tile.bound > tile.tolerance) failed.push_back({uint32_t(root), tile.level, tile.ix, tile.iy});
+    }
+    plan.guaranteedBound = std::max(plan.guaranteedBound, double(tile.bound));
+  }
+  return failed.empty();
+}
+
 }  // namespace
 
-TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
+// Rounds of planning: one-cell tiles planned on their corners' bound alone are checked against
+// their neighbours (tile_neighbors.h) and planned again without that shortcut where they fail,
+// which can change what their neighbours see, until none fails; then the seams are stitched.
+AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& surface,
+                              const TessellationOptions& options) {
+  AdaptiveLayout layout;
+  std::vector<uint32_t> roots(surface.tree.roots.size());
+  std::iota(roots.begin(), roots.end(), 0u);
+  std::vector<TileSquare> conservative;
+  RootTiles tiles;
+  planRoots(surface.tree, patches, options, conservative, roots, tiles);
+  TileNeighbors neighbors(surface.rootSeams, tiles);
+  for (;;) {
+    for (std::vector<uint32_t> check = roots;;) {
+      ++layout.rounds;
+      const std::vector<TileSquare> failed = checkPending(tiles, neighbors, check);
+      if (failed.empty()) break;
+      // A failed square stays conservative for good, so the rounds end.
+      conservative.insert(conservative.end(), failed.begin(), failed.end());
+      std::stable_sort(conservative.begin(), conservative.end());
+      std::vector<uint32_t> replanned;
+      for (const TileSquare& q : failed) replanned.push_back(q.root);
+      std::sort(replanned.begin(), replanned.end());
+      replanned.erase(std::unique(replanned.begin(), replanned.end()), replanned.end());
+      planRoots(surface.tree, patches, options, conservative, replanned, tiles);
+      for (uint32_t r : replanned) neighbors.reindex(r);
+      check = affectedRoots(surface.rootSeams, failed);
+    }
+    layout.plan = flattenPlan(tiles);
+    if (layout.plan.gridTriangles > options.maxTriangles) {
+      throwLimit("the request would produce about " + std::to_string(layout.plan.gridTriangles) +
+                 " triangles, over the budget of " + std::to_string(options.maxTriangles) +
+                 "; raise the tolerance or the triangle budget");
+    }
+    layout.stitching = stitchTiles(layout.plan, surface.tree, surface.seams, options.checkpoint);
+    std::vector<TileSquare> failed;
+    if (settlePending(layout.plan, layout.stitching, failed)) return layout;
+    conservative.insert(conservative.end(), failed.begin(), failed.end());
+    std::stable_sort(conservative.begin(), conservative.end());
+    planRoots(surface.tree, patches, options, conservative, roots, tiles);
+    for (uint32_t r : roots) neighbors.reindex(r);
+  }
+}
+
+TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptiveLayout& layout,
                                 bool recordParameters, const std::function<void()>& checkpoint) {
-  const Stitching stitching = stitchTiles(plan, surface.tree, surface.seams, checkpoint);
+  const AdaptivePlan& plan = layout.plan;
+  const Stitching& stitching = layout.stitching;
   std::vector<uint32_t> tileRoot(plan.tiles.size());
   for (size_t r = 0; r + 1 < plan.rootFirstTile.size(); ++r) {
     std::fill(tileRoot.begin() + plan.rootFirstTile[r], tileRoot.begin() + plan.rootFirstTile[r + 1], uint32_t(r));

@@ -8,13 +8,26 @@
 
 #include "core/adaptive_plan.h"
 #include "core/adaptive_surface.h"
+#include "core/tile_stitching.h"
 #include "core/watertight_tessellator.h"
 
 namespace tessera {
 
+// Tiles and their seams, every bound settled.
+struct AdaptiveLayout {
+  AdaptivePlan plan;
+  Stitching stitching;
+  int rounds = 0;  // plans it took (docs/ADAPTIVE.md §5: one-cell tiles checked after stitching)
+};
+
+// Plans and stitches; a one-cell tile planned on its corners' bound alone that got points on a
+// side whose bow breaks its ε is planned again without that shortcut, until none does.
+AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& surface,
+                              const TessellationOptions& options);
+
 // trianglePiece holds each triangle's tile; vertexFace/vertexSubFace/vertexUv where each vertex
 // was evaluated; with recordParameters, each triangle's root and its corners' (u, v) there.
-TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
+TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptiveLayout& layout,
                                 bool recordParameters = false, const std::function<void()>& checkpoint = {});
 
 }  // namespace tessera

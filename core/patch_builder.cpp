@@ -277,6 +277,7 @@ PatchSet PatchSetBuilder::build() {
   auto surface = std::make_shared<AdaptiveSurface>();
   surface->tree = buildSurfaceTree(result_, mesh_);
   surface->seams = SeamTopology(mesh_);
+  surface->rootSeams = RootSeams(surface->tree, surface->seams);
   result_.adaptive = std::move(surface);
   return std::move(result_);
 }

@@ -20,16 +20,12 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 TessellationResult tessellateToTolerance(const PatchSet& patches, const TessellationOptions& options) {
   const AdaptiveSurface& surface = *patches.adaptive;
   auto start = std::chrono::steady_clock::now();
-  const AdaptivePlan plan = planAdaptive(surface.tree, patches, options);
+  const AdaptiveLayout layout = layoutAdaptive(patches, surface, options);
+  const AdaptivePlan& plan = layout.plan;
   TessellationResult result;
   result.summary.planMs = millisecondsSince(start);
-  if (plan.gridTriangles > options.maxTriangles) {
-    throwLimit("the request would produce about " + std::to_string(plan.gridTriangles) +
-               " triangles, over the budget of " + std::to_string(options.maxTriangles) +
-               "; raise the tolerance or the triangle budget");
-  }
   start = std::chrono::steady_clock::now();
-  result.mesh = tessellateAdaptive(patches, surface, plan, options.recordParameters, options.checkpoint);
+  result.mesh = tessellateAdaptive(patches, surface, layout, options.recordParameters, options.checkpoint);
   result.summary.tessellateMs = millisecondsSince(start);
   TessellationSummary& s = result.summary;
   s.triangles = int64_t(result.mesh.triangleCount());

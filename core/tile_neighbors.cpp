@@ -1,0 +1,150 @@
+#include "core/tile_neighbors.h"
+
+#include <algorithm>
+#include <map>
+
+namespace tessera {
+
+namespace {
+
+// A root side's span of its line: t at s = 0 and s = 1 (scale kLineScale).
+void lineSpan(const SideLine& line, int64_t& t0, int64_t& t1) {
+  const int64_t origin = line.origin ? kLineScale : 0;
+  t0 = origin, t1 = origin + line.sign * (kLineScale / line.halves);
+  if (t1 < t0) std::swap(t0, t1);
+}
+
+// t (scale kLineScale) of root side coordinate s (scale kRootScale) and back.
+int64_t toLine(const SideLine& line, int64_t s) {
+  return (line.origin ? kLineScale : 0) + line.sign * (line.halves == 1 ? 2 * s : s);
+}
+int64_t toSide(const SideLine& line, int64_t t) {
+  const int64_t along = line.sign * (t - (line.origin ? kLineScale : 0));
+  return line.halves == 1 ? along / 2 : along;
+}
+
+constexpr int64_t corner(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
+
+}  // namespace
+
+RootSeams::RootSeams(const SurfaceTree& tree, const SeamTopology& seams) {
+  struct Entry {
+    SeamLine key;
+    Span span;
+  };
+  std::vector<Entry> all;
+  for (uint32_t r = 0; r < tree.roots.size(); ++r) {
+    if (tree.roots[r].node == kNoNode) continue;
+    for (int k = 0; k < 4; ++k) {
+      Span span{r, uint8_t(k), 0, 0, rootSideLine(seams, tree.roots[r].baseFace, tree.roots[r].subFace, k)};
+      lineSpan(span.line, span.t0, span.t1);
+      all.push_back({span.line.line, span});
+    }
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  std::vector<std::vector<Span>> others(4 * tree.roots.size());
+  for (size_t i = 0; i < all.size();) {
+    size_t j = i;
+    while (j < all.size() && all[j].key == all[i].key) ++j;
+    for (size_t a = i; a < j; ++a) {
+      for (size_t b = i; b < j; ++b) {
+        if (a != b) others[4 * size_t(all[a].span.root) + all[a].span.side].push_back(all[b].span);
+      }
+    }
+    i = j;
+  }
+  first.assign(1, 0);
+  for (auto& list : others) {
+    spans.insert(spans.end(), list.begin(), list.end());
+    first.push_back(uint32_t(spans.size()));
+  }
+  // The root's own side, for mapping its coordinates: kept beside, one per root side.
+  own.resize(4 * tree.roots.size());
+  for (const Entry& e : all) own[4 * size_t(e.span.root) + e.span.side] = e.span;
+}
+
+TileNeighbors::TileNeighbors(const RootSeams& seams, const RootTiles& tiles)
+    : seams_(seams), tiles_(tiles), entries_(tiles.size()) {
+  for (uint32_t r = 0; r < tiles.size(); ++r) reindex(r);
+}
+
+void TileNeighbors::reindex(uint32_t root) {
+  std::vector<Entry>& entries = entries_[root];
+  entries.clear();
+  for (uint32_t t = 0; t < tiles_[root].size(); ++t) {
+    const Tile& tile = tiles_[root][t];
+    entries.push_back({tile.level, tile.ix, tile.iy, t});
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
+  });
+}
+
+uint32_t TileNeighbors::covering(uint32_t root, int level, uint64_t ix, uint64_t iy) const {
+  const std::vector<Entry>& entries = entries_[root];
+  for (int l = level; l >= 0; --l) {
+    const Entry key{l, ix >> (level - l), iy >> (level - l), 0};
+    const auto found = std::lower_bound(entries.begin(), entries.end(), key, [](const Entry& a, const Entry& b) {
+      return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
+    });
+    if (found != entries.end() && found->level == l && found->ix == key.ix && found->iy == key.iy) return found->tile;
+  }
+  return UINT32_MAX;
+}
+
+// The tile across: points inside our side come from a smaller tile (its corner), from cells
+// shorter than the side (the densest-first rule fills the gap), or from a strip that keeps its
+// own points (tile_stitching.h).
+bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side, int64_t a,
+                                      int64_t b) const {
+  const uint32_t t = covering(root, level, ix, iy);
+  if (t == UINT32_MAX) return true;
+  const Tile& n = tiles_[root][t];
+  const bool alongU = side == 0 || side == 2;
+  const int cells = alongU ? n.ru : n.rv;
+  const int64_t sideLength = corner(n.level, 1);
+  // Its cell, sideLength / cells, against our side, b − a.
+  if (__int128(sideLength) < __int128(b - a) * cells) return true;
+  const bool strip = (n.ru == 1) != (n.rv == 1);
+  if (!strip || cells == 1) return false;
+  // The first own point past a: positions (i·cells + j)·sideLength/cells of the strip's side.
+  const int64_t origin = corner(n.level, alongU ? n.ix : n.iy);
+  const __int128 j = (__int128(a - origin) * cells) / sideLength + 1;
+  return j < cells && __int128(origin) * cells + j * sideLength < __int128(b) * cells;
+}
+
+bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) const {
+  const Tile& tile = tiles_[root][index];
+  const uint64_t last = (uint64_t(1) << tile.level) - 1;
+  const bool alongU = side == 0 || side == 2;
+  const int64_t a = corner(tile.level, alongU ? tile.ix : tile.iy), b = corner(tile.level, (alongU ? tile.ix : tile.iy) + 1);
+  const bool onBoundary = side == 0 ? tile.iy == 0 : side == 1 ? tile.ix == last : side == 2 ? tile.iy == last : tile.ix == 0;
+  if (!onBoundary) {
+    const uint64_t nx = side == 1 ? tile.ix + 1 : side == 3 ? tile.ix - 1 : tile.ix;
+    const uint64_t ny = side == 2 ? tile.iy + 1 : side == 0 ? tile.iy - 1 : tile.iy;
+    return acrossGivesPoints(root, tile.level, nx, ny, side ^ 2, a, b);
+  }
+  // Across a base edge or spoke: the roots on the same line, where they overlap our side.
+  const RootSeams::Span& ours = seams_.own[4 * size_t(root) + side];
+  int64_t ta = toLine(ours.line, a), tb = toLine(ours.line, b);
+  if (tb < ta) std::swap(ta, tb);
+  for (uint32_t i = seams_.first[4 * size_t(root) + side]; i < seams_.first[4 * size_t(root) + side + 1]; ++i) {
+    const RootSeams::Span& other = seams_.spans[i];
+    const int64_t lo = std::max(ta, other.t0), hi = std::min(tb, other.t1);
+    if (hi <= lo) continue;
+    // Another root's side ends inside ours: its corner is a point beside ours.
+    if (lo > ta || hi < tb) return true;
+    int64_t sa = toSide(other.line, lo), sb = toSide(other.line, hi);
+    if (sb < sa) std::swap(sa, sb);
+    const int64_t length = sb - sa;
+    const int otherLevel = kRootBits - (63 - __builtin_clzll(uint64_t(length)));
+    const uint64_t i2 = uint64_t(sa / length), end = (uint64_t(1) << otherLevel) - 1;
+    const int k = other.side;
+    const uint64_t nx = k == 1 ? end : k == 3 ? 0 : i2, ny = k == 2 ? end : k == 0 ? 0 : i2;
+    if (tiles_[other.root].empty()) continue;  // a hole
+    if (acrossGivesPoints(other.root, otherLevel, nx, ny, k, sa, sb)) return true;
+  }
+  return false;
+}
+
+}  // namespace tessera

@@ -1,0 +1,59 @@
+// Which tile sides will get points beside their corners once seams are stitched, without
+// stitching (docs/ADAPTIVE.md §5): a side does when a smaller tile meets it, when the tile across
+// has cells along it shorter than the side, or when the tile across is a strip whose own points
+// it must keep and one falls inside the side (tile_stitching.h's rules). Lets planning settle
+// the one-cell tiles it planned on their corners' bound alone in cheap rounds.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/adaptive_plan.h"
+#include "core/seam_topology.h"
+#include "core/surface_tree.h"
+
+namespace tessera {
+
+// For every root side on a base edge or spoke, the other root sides on the same line and where
+// each lies on it (t in [t0, t1], scale kLineScale). Mesh data: cached with the patch set.
+struct RootSeams {
+  struct Span {
+    uint32_t root;
+    uint8_t side;
+    int64_t t0, t1;
+    SideLine line;
+  };
+  std::vector<uint32_t> first;  // 4 per root + 1: spans of the other roots on root side k's line
+  std::vector<Span> spans;
+  std::vector<Span> own;  // each root side's own span
+
+  RootSeams() = default;
+  RootSeams(const SurfaceTree& tree, const SeamTopology& seams);
+};
+
+class TileNeighbors {
+ public:
+  TileNeighbors(const RootSeams& seams, const RootTiles& tiles);
+  // tiles[root] changed: index it again.
+  void reindex(uint32_t root);
+  // Whether side k of tiles[root][tile] will get points beside its corners.
+  bool sideGetsPoints(uint32_t root, uint32_t tile, int side) const;
+
+ private:
+  struct Entry {
+    int level;
+    uint64_t ix, iy;
+    uint32_t tile;
+  };
+  // The tile of `root` covering square (level, ix, iy), UINT32_MAX when smaller tiles do.
+  uint32_t covering(uint32_t root, int level, uint64_t ix, uint64_t iy) const;
+  // Whether the tile of `root` across square (level, ix, iy)'s side `side` puts points strictly
+  // inside that side, which runs over [a, b] (root coordinates, scale kRootScale).
+  bool acrossGivesPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side, int64_t a, int64_t b) const;
+
+  const RootSeams& seams_;
+  const RootTiles& tiles_;
+  std::vector<std::vector<Entry>> entries_;  // per root, sorted by (level, ix, iy)
+};
+
+}  // namespace tessera
