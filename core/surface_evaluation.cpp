@@ -18,18 +18,21 @@ PatchDomain fasDomain(const RingSet& rings, const FasLeaf& leaf) {
   return rings.sectorDomains[rings.sectorOffsets[leaf.ring] + leaf.sector].restrict(x0 * size, y0 * size, size);
 }
 
-void gatherFasNet(const RingSet& rings, const FasLeaf& leaf, const float* refined, Vec3 net[16]) {
+// A FAS leaf's B-spline net relative to its ring's centre (deep levels are tiny next to the
+// model: kept relative, they keep their precision).
+void gatherFasNet(const RingSet& rings, const FasLeaf& leaf, const float* refined, Vec3d net[16]) {
   const RingRules rules = rings.rules(leaf.ring);
   NetSource sources[16];
   sectorNetSources(rules, leaf.sector, leaf.patch, sources);
-  gatherNet(refined, sources, net);
-  for (int k = 0; k < 16; ++k) net[k] += rings.centers[leaf.ring];
+  Vec3 relative[16];
+  gatherNet(refined, sources, relative);
+  for (int k = 0; k < 16; ++k) net[k] = Vec3d(relative[k]);
 }
 
-BezierNet bsplineToRootBezier(const Vec3* bspline, const Orientation& orientation) {
-  Vec3d b[16], bezier[16];
-  for (int k = 0; k < 16; ++k) b[k] = Vec3d(bspline[k]);
-  bsplineToBezier(b, bezier);
+BezierNet bsplineToRootBezier(const Vec3d* bspline, const Orientation& orientation, const Vec3d& offset) {
+  Vec3d bezier[16];
+  bsplineToBezier(bspline, bezier);
+  for (Vec3d& p : bezier) p += offset;
   return orientNet(bezier, orientation);
 }
 
@@ -49,16 +52,18 @@ Vec3d unit(Vec3d n) {
 BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
   const SurfaceNode& node = tree.nodes[index];
   if (node.kind == NodeKind::kRegularLeaf) {
-    return bsplineToRootBezier(patches.regular.bspline[node.payload].data(),
-                               rootSquareOf(patches.regular.domains[node.payload]).orientation);
+    Vec3d net[16];
+    for (int k = 0; k < 16; ++k) net[k] = Vec3d(patches.regular.bspline[node.payload][k]);
+    return bsplineToRootBezier(net, rootSquareOf(patches.regular.domains[node.payload]).orientation, Vec3d());
   }
   const FasLeaf& leaf = tree.fasLeaves[node.payload];
-  Vec3 net[16];
+  Vec3d net[16];
   gatherFasNet(patches.rings, leaf, tree.refinedAtLevel(patches.rings, leaf.ring, leaf.level), net);
-  return bsplineToRootBezier(net, rootSquareOf(fasDomain(patches.rings, leaf)).orientation);
+  return bsplineToRootBezier(net, rootSquareOf(fasDomain(patches.rings, leaf)).orientation,
+                             Vec3d(patches.rings.centers[leaf.ring]));
 }
 
-const Vec3* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
+const Vec3d* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
   if (cachedFas_ != fasLeaf) {
     const FasLeaf& leaf = tree_.fasLeaves[fasLeaf];
     gatherFasNet(patches_.rings, leaf, tree_.refinedAtLevel(patches_.rings, leaf.ring, leaf.level), cachedNet_);
@@ -71,24 +76,34 @@ SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, d
   const SurfaceNode& node = tree_.nodes[leaf.node];
   PatchSample p;
   Orientation orientation;
+  // Ring pieces are evaluated relative to their ring's centre, then moved there.
+  Vec3d offset;
   if (node.kind == NodeKind::kEvBottom) {
+    const EvBottom& bottom = tree_.evBottoms[node.payload];
     Vec3d g[16];
-    for (int k = 0; k < 16; ++k) g[k] = Vec3d(tree_.evBottoms[node.payload].g[k]);
+    for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]);
     p = evaluateBezier(g, x, y);
-  } else {
-    const Vec3* bspline;
-    if (node.kind == NodeKind::kRegularLeaf) {
-      bspline = patches_.regular.bspline[node.payload].data();
-      orientation = rootSquareOf(patches_.regular.domains[node.payload]).orientation;
-    } else {
-      bspline = fasNet(node.payload);
-      orientation = rootSquareOf(fasDomain(patches_.rings, tree_.fasLeaves[node.payload])).orientation;
-    }
+    offset = Vec3d(bottom.center);
+  } else if (node.kind == NodeKind::kRegularLeaf) {
+    orientation = rootSquareOf(patches_.regular.domains[node.payload]).orientation;
     double s, t;
     pieceParameters(orientation, x, y, s, t);
-    p = evaluateBspline(bspline, s, t);
+    p = evaluateBspline(patches_.regular.bspline[node.payload].data(), s, t);
+  } else {
+    const FasLeaf& leaf = tree_.fasLeaves[node.payload];
+    orientation = rootSquareOf(fasDomain(patches_.rings, leaf)).orientation;
+    double s, t;
+    pieceParameters(orientation, x, y, s, t);
+    p = evaluateBspline(fasNet(node.payload), s, t);
+    offset = Vec3d(patches_.rings.centers[leaf.ring]);
   }
+  p.position += offset;
   Vec3d normal = unit(cross(p.dPds, p.dPdt)) * double(orientation.handedness());
+  if (length(normal) == 0) {
+    // A degenerate corner (the derivatives vanish): the normal a step inside.
+    const double nx = x + (x < 0.5 ? 1e-6 : -1e-6), ny = y + (y < 0.5 ? 1e-6 : -1e-6);
+    normal = evaluateLeaf(leaf, nx, ny).normal;
+  }
   return {p.position, normal};
 }
 

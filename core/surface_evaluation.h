@@ -43,12 +43,12 @@ class SurfaceEvaluator {
 
  private:
   SurfaceSample evaluateLeaf(const NodeSquare& leaf, double x, double y);
-  const Vec3* fasNet(uint32_t fasLeaf);
+  const Vec3d* fasNet(uint32_t fasLeaf);
 
   const SurfaceTree& tree_;
   const PatchSet& patches_;
   uint32_t cachedFas_ = kNoNode;
-  Vec3 cachedNet_[16];
+  Vec3d cachedNet_[16];  // relative to the ring's centre
 };
 
 }  // namespace tessera

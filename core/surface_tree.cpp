@@ -51,11 +51,6 @@ int originCorner(const PatchDomain& d) {
   return cv ? (cu ? 2 : 3) : (cu ? 1 : 0);
 }
 
-BezierNet toDouble(const Vec3* net) {
-  BezierNet out;
-  for (int k = 0; k < 16; ++k) out[k] = Vec3d(net[k]);
-  return out;
-}
 
 // What the quadtree of a root is built from: regular patches and ring sectors, each a square.
 struct Item {
@@ -277,11 +272,14 @@ NodeFit TreeBuilder::ringStandIn(const ChainStep& step, int) const {
   const RingSet& rings = patches_.rings;
   const RingRules rules = rings.rules(step.ring);
   const float* ring = tree_.ringAtLevel(rings, step.ring, step.level);
-  Vec3 g[16];
-  innermostNet(rules, step.sector, ring, rings.centers[step.ring], g);
+  // In double, relative to the centre, then moved: deep rings are tiny next to the model.
+  auto fetch = [ring](int index) { return Vec3d(ring[3 * index], ring[3 * index + 1], ring[3 * index + 2]); };
+  Vec3d g[16];
+  innermostBezier<Vec3d>(rules, step.sector, fetch, g);
+  for (Vec3d& p : g) p += Vec3d(rings.centers[step.ring]);
   const PatchDomain& sectorDomain = rings.sectorDomains[rings.sectorOffsets[step.ring] + step.sector];
   NodeFit fit;
-  fit.g = orientNet(toDouble(g).data(), rootSquareOf(sectorDomain).orientation);
+  fit.g = orientNet(g, rootSquareOf(sectorDomain).orientation);
   for (int c = 0; c < 4; ++c) fit.corners[c] = fit.g[kCornerIndex[c]];
   fit.r = standInBound(rings, step.ring, ring, step.level) * (1 + 1e-5) + 1e-6 * floor_;
   return fit;
@@ -361,7 +359,9 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
   NodeFit fit;
   if (self.kind == NodeKind::kEvBottom) {
     fit = ringStandIn(*step, level);
-    for (int k = 0; k < 16; ++k) tree_.evBottoms[self.payload].g[k] = Vec3(fit.g[k]);
+    EvBottom& bottom = tree_.evBottoms[self.payload];
+    bottom.center = patches_.rings.centers[step->ring];
+    for (int k = 0; k < 16; ++k) bottom.g[k] = Vec3(fit.g[k] - Vec3d(bottom.center));
   } else {
     NodeFit children[4];
     for (int q = 0; q < 4; ++q) children[q] = summarize(tree_.nodes[index].firstChild + q, level + 1);
@@ -444,7 +444,8 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   if (node.isLeaf()) {
     if (node.kind == NodeKind::kEvBottom) {
       BezierNet g;
-      for (int k = 0; k < 16; ++k) g[k] = Vec3d(tree_.evBottoms[node.payload].g[k]);
+      const EvBottom& bottom = tree_.evBottoms[node.payload];
+      for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
       leafAgainstAncestors(g, node.standInBound, level, ix, iy, path);
     } else {
       leafAgainstAncestors(leafNet(node), 0, level, ix, iy, path);

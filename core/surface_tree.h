@@ -66,7 +66,8 @@ struct FasLeaf {
 // The deepest EV quadrant kept: its stand-in (the ring's ACC-1 approximation at that level),
 // which also serves to evaluate points within kChainFloor of the EV.
 struct EvBottom {
-  std::array<Vec3, 16> g;  // Bézier net in root orientation over the node's square
+  std::array<Vec3, 16> g;  // Bézier net in root orientation over the node's square, from `center`
+  Vec3 center;             // the ring's centre (deep quadrants are tiny: kept relative)
 };
 
 struct SurfaceRoot {

@@ -1,0 +1,207 @@
+// What the adaptive path promises beyond staying within ε (tessellation_test.cpp): sharp where the
+// surface is sharp, no triangle facing against its vertex normals, pixel accuracy per triangle,
+// fewer triangles where the surface is flatter, and coarse requests that stay coarse.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "core/adaptive_surface.h"
+#include "core/adaptive_tessellator.h"
+#include "core/domain_keys.h"
+#include "core/obj_reader.h"
+#include "core/patch_set.h"
+#include "core/tessellate.h"
+#include "tests/support/bfr_reference.h"
+#include "tests/support/models.h"
+
+namespace tessera {
+namespace {
+
+TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& set, double relative) {
+  TessellationOptions options;
+  options.tolerance = relative;
+  options.relativeTolerance = true;
+  options.recordParameters = true;
+  return tessellate(set, mesh, options);
+}
+
+double degreesBetween(const Vec3d& a, const Vec3d& b) {
+  const double c = dot(a, b) / (length(a) * length(b));
+  return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI;
+}
+
+// Each infinitely sharp edge's two faces, as (lo, hi) vertex pairs.
+std::set<std::pair<int, int>> sharpEdges(const ControlMesh& mesh) {
+  std::set<std::pair<int, int>> edges;
+  for (const CreaseEdge& c : mesh.creases) {
+    if (c.sharpness >= kInfiniteSharpness) edges.insert({std::min(c.v0, c.v1), std::max(c.v0, c.v1)});
+  }
+  return edges;
+}
+
+// Along every infinitely sharp edge each face keeps its own normal: the vertex normal every
+// triangle uses there is Bfr's limit normal of that triangle's own face, within 1°.
+TEST(AdaptiveTessellation, InfinitelySharpEdgesKeepEachSidesLimitNormal) {
+  const std::string shapes = testing::modelsDir() + "/opensubdiv-shapes/";
+  for (const char* name : {"catmark_cube_creases2", "catmark_inf_crease0", "catmark_inf_crease1",
+                           "catmark_cubes_infsharp"}) {
+    SCOPED_TRACE(name);
+    const ControlMesh mesh = readObjFile(shapes + name + ".obj");
+    const PatchSet set = buildPatchSet(mesh);
+    const std::set<std::pair<int, int>> sharp = sharpEdges(mesh);
+    ASSERT_FALSE(sharp.empty());
+    testing::BfrReference bfr(mesh);
+    const FaceTopology faces(mesh.faceSizes, mesh.faceVertices);
+    for (double relative : {1e-2, 1e-3}) {
+      const TessellationResult result = tessellateAt(mesh, set, relative);
+      const TriangleMesh& m = result.mesh;
+      size_t checked = 0;
+      double worst = 0;
+      for (size_t t = 0; t < m.triangleCount(); ++t) {
+        for (int k = 0; k < 3; ++k) {
+          const double u = m.triangleST[6 * t + 2 * k], v = m.triangleST[6 * t + 2 * k + 1];
+          const DomainKey key = pointKey(faces, m.triangleFace[t], m.triangleSubFace[t], u, v);
+          if (key.kind != DomainKey::kEdge || !sharp.count({key.a, key.b})) continue;
+          Vec3d position, du, dv;
+          ASSERT_TRUE(bfr.evaluateFace(m.triangleFace[t], m.triangleSubFace[t], u, v, position, &du, &dv));
+          worst = std::max(worst, degreesBetween(Vec3d(m.normals[m.indices[3 * t + k]]), cross(du, dv)));
+          ++checked;
+        }
+      }
+      EXPECT_GT(checked, 0u);
+      EXPECT_LE(worst, 1.0) << "at " << relative << ", " << checked << " corners on sharp edges";
+    }
+  }
+}
+
+// The two sides of a sharp edge are different vertices at the same position.
+TEST(AdaptiveTessellation, SharpEdgesSplitVerticesAtOnePosition) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_cube_creases2.obj");
+  const TessellationResult result = tessellateAt(mesh, buildPatchSet(mesh), 1e-2);
+  const TriangleMesh& m = result.mesh;
+  size_t copies = 0;
+  for (uint32_t v = 0; v < m.positions.size(); ++v) {
+    if (m.vertexPoint[v] == v) continue;
+    ++copies;
+    const Vec3 &a = m.positions[v], &b = m.positions[m.vertexPoint[v]];
+    EXPECT_TRUE(a.x == b.x && a.y == b.y && a.z == b.z);
+    EXPECT_GT(degreesBetween(Vec3d(m.normals[v]), Vec3d(m.normals[m.vertexPoint[v]])), 1.0);
+  }
+  EXPECT_GT(copies, 0u);
+}
+
+TEST(AdaptiveTessellation, NoTriangleFacesAgainstItsVertexNormals) {
+  std::vector<std::string> paths = testing::benchmarkCharacters();
+  for (const char* name : {"catmark_rook", "catmark_bishop", "catmark_cubes_semisharp", "catmark_pole64"}) {
+    paths.push_back(testing::modelsDir() + "/opensubdiv-shapes/" + name + ".obj");
+  }
+  for (const std::string& path : paths) {
+    const ControlMesh mesh = readObjFile(path);
+    const PatchSet set = buildPatchSet(mesh);
+    for (double relative : {1e-2, 1e-3, 1e-4}) {
+      SCOPED_TRACE(testing::baseName(path) + " at " + std::to_string(relative));
+      TessellationOptions options;
+      options.tolerance = relative;
+      options.relativeTolerance = true;
+      const TriangleMesh m = tessellate(set, mesh, options).mesh;
+      size_t facingAway = 0;
+      for (size_t t = 0; t < m.triangleCount(); ++t) {
+        const uint32_t* i = &m.indices[3 * t];
+        const Vec3 n = cross(m.positions[i[1]] - m.positions[i[0]], m.positions[i[2]] - m.positions[i[0]]);
+        for (int k = 0; k < 3; ++k) facingAway += dot(n, m.normals[i[k]]) < 0;
+      }
+      EXPECT_EQ(facingAway, 0u);
+    }
+  }
+}
+
+// Pixel accuracy, checked where it matters: on the screen. Every sampled mesh point and the limit
+// point at the same parameter project at most `pixelAccuracy` apart.
+TEST(AdaptiveTessellation, PixelAccurateMeshesStayWithinHalfAPixel) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  testing::BfrReference bfr(mesh);
+  const Vec3d center = (Vec3d(set.boundsMin) + Vec3d(set.boundsMax)) * 0.5;
+  const double diagonal = length(Vec3d(set.boundsMax) - Vec3d(set.boundsMin));
+  TessellationOptions options;
+  options.camera = Camera{center + Vec3d(0.2, 0.1, 1.0) * diagonal, center, {0, 1, 0}, 45, 1280, 720};
+  options.recordParameters = true;
+  const TriangleMesh m = tessellate(set, mesh, options).mesh;
+  const Camera& c = *options.camera;
+  const Vec3d forward = (c.target - c.eye) * (1 / length(c.target - c.eye));
+  const Vec3d right = cross(forward, c.up) * (1 / length(cross(forward, c.up)));
+  const Vec3d up = cross(right, forward);
+  const double focal = c.height / (2 * std::tan(c.fovYDegrees * M_PI / 360));
+  auto project = [&](const Vec3d& p, double& x, double& y) {
+    const Vec3d d = p - c.eye;
+    const double z = dot(d, forward);
+    x = focal * dot(d, right) / z, y = focal * dot(d, up) / z;
+    return z;
+  };
+  double worst = 0;
+  const size_t stride = std::max<size_t>(1, m.triangleCount() / 20000);
+  for (size_t t = 0; t < m.triangleCount(); t += stride) {
+    for (const double b : {1 / 3.0, 0.5}) {
+      const double w[3] = {b, b, 1 - 2 * b};
+      double u = 0, v = 0;
+      Vec3d onMesh;
+      for (int k = 0; k < 3; ++k) {
+        u += w[k] * m.triangleST[6 * t + 2 * k], v += w[k] * m.triangleST[6 * t + 2 * k + 1];
+        onMesh += Vec3d(m.positions[m.indices[3 * t + k]]) * w[k];
+      }
+      Vec3d exact;
+      ASSERT_TRUE(bfr.evaluateFace(m.triangleFace[t], m.triangleSubFace[t], u, v, exact));
+      double x0, y0, x1, y1;
+      if (project(exact, x0, y0) <= 0 || project(onMesh, x1, y1) <= 0) continue;  // behind the eye
+      worst = std::max(worst, std::hypot(x1 - x0, y1 - y0));
+    }
+  }
+  EXPECT_LE(worst, options.pixelAccuracy);
+  EXPECT_GT(worst, 0.1 * options.pixelAccuracy) << "the mesh is far finer than half a pixel asks";
+}
+
+// A flat surface is exact with two triangles a face, whatever the tolerance, away from the mesh's
+// corners (single-face vertices are extraordinary and parameterize non-affinely, so the faces
+// there and, through their seams, the faces beside them get more).
+TEST(AdaptiveTessellation, AFlatFaceIsTwoTriangles) {
+  constexpr int kSide = 6;
+  ControlMesh mesh;
+  for (int j = 0; j < kSide; ++j) {
+    for (int i = 0; i < kSide; ++i) mesh.positions.push_back(Vec3(float(i), float(j), 0));
+  }
+  std::vector<bool> inner;
+  for (int j = 0; j + 1 < kSide; ++j) {
+    for (int i = 0; i + 1 < kSide; ++i) {
+      mesh.faceSizes.push_back(4);
+      const int v = kSide * j + i;
+      mesh.faceVertices.insert(mesh.faceVertices.end(), {v, v + 1, v + kSide + 1, v + kSide});
+      inner.push_back(i >= 1 && i + 3 <= kSide && j >= 1 && j + 3 <= kSide);
+    }
+  }
+  const TessellationResult result = tessellateAt(mesh, buildPatchSet(mesh), 1e-4);
+  std::map<int, int> triangles;
+  for (int face : result.mesh.triangleFace) ++triangles[face];
+  for (int f = 0; f < mesh.faceCount(); ++f) {
+    if (inner[f]) {
+      EXPECT_EQ(triangles[f], 2) << "face " << f;
+    }
+  }
+}
+
+// A coarse request is answered from coarse nodes: it must not touch every fine piece, so it costs
+// far less than a fine one on a mesh whose preprocessing made many pieces.
+TEST(AdaptiveTessellation, CoarseRequestsUseCoarseTiles) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  const size_t pieces = set.regular.size();
+  TessellationOptions options;
+  options.tolerance = 1e-2;
+  options.relativeTolerance = true;
+  const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
+  EXPECT_LT(layout.plan.tiles.size() * 20, pieces) << layout.plan.tiles.size() << " tiles for " << pieces << " pieces";
+}
+
+}  // namespace
+}  // namespace tessera
