@@ -1,5 +1,6 @@
 #include "core/tile_stitching.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -37,6 +38,8 @@ struct LinePoints {
   Int denominator = 1;
   std::vector<Int> points;
   std::vector<Int> lo, hi, cell;  // per use
+  std::vector<uint32_t> order;    // the uses by start (byStart), and room for resolveLine
+  std::vector<Int> added;
 };
 
 // A line's points: every side's ends, rigid sides' own points, then for each side, densest
@@ -72,11 +75,12 @@ void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
     for (int k = 0; k <= uses[0].cells; ++k) out.points.push_back(out.lo[0] + k * out.cell[0]);
     return;
   }
-  std::vector<size_t> order(count);
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::stable_sort(order.begin(), order.end(), [&out](size_t x, size_t y) { return out.cell[x] < out.cell[y]; });
-  std::vector<Int> added;
-  for (size_t i : order) {
+  std::vector<uint32_t>& order = out.order;
+  order.resize(count);
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(), [&out](uint32_t x, uint32_t y) { return out.cell[x] < out.cell[y]; });
+  std::vector<Int>& added = out.added;
+  for (uint32_t i : order) {
     added.clear();
     auto p = std::lower_bound(out.points.begin(), out.points.end(), out.lo[i]);
     for (; p + 1 != out.points.end() && *(p + 1) <= out.hi[i]; ++p) {
@@ -93,8 +97,9 @@ void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
 
 // The uses of a line in order of where they start (ties in their given order): walked along with
 // the sorted points, the first use holding each point is found in one pass.
-std::vector<uint32_t> byStart(const LinePoints& points) {
-  std::vector<uint32_t> order(points.lo.size());
+const std::vector<uint32_t>& byStart(LinePoints& points) {
+  std::vector<uint32_t>& order = points.order;
+  order.resize(points.lo.size());
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&points](uint32_t x, uint32_t y) { return points.lo[x] < points.lo[y]; });
   return order;
@@ -147,6 +152,23 @@ struct BoundaryUse {
   int face;
 };
 
+// A tile side on a line inside its root: the line is (axis, fixed coordinate).
+struct InnerUse {
+  int axis;  // 0: u fixed (sides 1, 3), 1: v fixed (sides 0, 2)
+  int64_t fixed;
+  LineUse use;
+};
+
+// Room a thread reuses from root to root.
+struct RootScratch {
+  std::vector<std::pair<int64_t, int64_t>> inner;
+  std::vector<InnerUse> uses;
+  std::vector<LineUse> line;
+  LinePoints points;
+  std::vector<PendingPoint> resolved;
+  std::vector<uint32_t> endOf;
+};
+
 // What stitching one root produces before the roots are joined.
 struct RootStitch {
   std::vector<VertexRequest> locals;  // local vertices: inner corners, inner line points, grids
@@ -167,7 +189,7 @@ class Stitcher {
   Stitching run();
 
  private:
-  void stitchRoot(uint32_t root, RootStitch& out) const;
+  void stitchRoot(uint32_t root, RootStitch& out, RootScratch& scratch) const;
   uint32_t cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y, const std::vector<std::pair<int64_t, int64_t>>& inner,
                      RootStitch& out, Ref& kind, int& qualifier) const;
   void joinBoundaries();
@@ -220,12 +242,13 @@ uint32_t Stitcher::cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y,
 
 // One root: its inner corners and the lines inside it are resolved here; its sides on base edges
 // and spokes wait for the other roots there (joinBoundaries).
-void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
+void Stitcher::stitchRoot(uint32_t root, RootStitch& out, RootScratch& scratch) const {
   const uint32_t first = plan_.rootFirstTile[root], last = plan_.rootFirstTile[root + 1];
   const SurfaceRoot& r = tree_.roots[root];
   out.sides.assign(4 * size_t(last - first), {0, 0});
   // Inner corners, numbered in (x, y) order.
-  std::vector<std::pair<int64_t, int64_t>> inner;
+  std::vector<std::pair<int64_t, int64_t>>& inner = scratch.inner;
+  inner.clear();
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     for (int c = 0; c < 4; ++c) {
@@ -250,12 +273,8 @@ void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
   }
   // Sides: inside the root they go on lines keyed (axis, fixed coordinate); on its boundary they
   // wait for joinBoundaries.
-  struct InnerUse {
-    int axis;  // 0: u fixed (sides 1, 3), 1: v fixed (sides 0, 2)
-    int64_t fixed;
-    LineUse use;
-  };
-  std::vector<InnerUse> uses;
+  std::vector<InnerUse>& uses = scratch.uses;
+  uses.clear();
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     const uint64_t end = uint64_t(1) << tile.level;
@@ -289,9 +308,10 @@ void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
     if (x.fixed != y.fixed) return x.fixed < y.fixed;
     return x.use.tile < y.use.tile || (x.use.tile == y.use.tile && x.use.side < y.use.side);
   });
-  std::vector<LineUse> line;
-  LinePoints points;
-  std::vector<PendingPoint> resolved;
+  std::vector<LineUse>& line = scratch.line;
+  LinePoints& points = scratch.points;
+  std::vector<PendingPoint>& resolved = scratch.resolved;
+  std::vector<uint32_t>& endOf = scratch.endOf;
   for (size_t i = 0; i < uses.size();) {
     size_t j = i;
     line.clear();
@@ -300,13 +320,13 @@ void Stitcher::stitchRoot(uint32_t root, RootStitch& out) const {
     // Each point: a tile corner (the end of some side) or the line's own vertex.
     resolved.assign(points.points.size(), {0, Ref::kLocal, -1, 0, 0});
     // A point that ends a side is that side's tile corner (0: not an end).
-    std::vector<uint32_t> endOf(points.points.size(), 0);
+    endOf.assign(points.points.size(), 0);
     for (size_t u = 0; u < line.size(); ++u) {
       for (const Int end : {points.lo[u], points.hi[u]}) {
         endOf[std::lower_bound(points.points.begin(), points.points.end(), end) - points.points.begin()] = line[u].tile + 1;
       }
     }
-    const std::vector<uint32_t> order = byStart(points);
+    const std::vector<uint32_t>& order = byStart(points);
     size_t cursor = 0;
     for (size_t p = 0; p < points.points.size(); ++p) {
       const Int value = points.points[p];
@@ -448,7 +468,8 @@ void Stitcher::joinBoundaries() {
     const size_t uses = line.useFrom.size();
     auto useOf = [&](size_t u) -> const LineUse& { return seams[lines[l].first + u].use.use; };
     std::vector<uint32_t> ids(points.points.size());
-    const std::vector<uint32_t> order = byStart(points);
+    LinePoints& mutablePoints = resolved[l].points;
+    const std::vector<uint32_t>& order = byStart(mutablePoints);
     size_t cursor = 0;
     uint32_t nextOwn = line.firstOwn;
     for (size_t p = 0; p < points.points.size(); ++p) {
@@ -602,9 +623,10 @@ void Stitcher::splitNormals() {
 
 Stitching Stitcher::run() {
   roots_.resize(tree_.roots.size());
+  tbb::enumerable_thread_specific<RootScratch> scratch;
   tbb::parallel_for(size_t(0), roots_.size(), [&](size_t r) {
     if (checkpoint_ && r % 256 == 0) checkpoint_();
-    if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), roots_[r]);
+    if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), roots_[r], scratch.local());
   });
   joinBoundaries();
   if (checkpoint_) checkpoint_();

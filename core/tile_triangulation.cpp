@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/small_vector.h"
+
 namespace tessera {
 
 namespace {
@@ -12,7 +14,7 @@ struct ChainPoint {
   uint32_t vertex;
   double at, back;
 };
-using Chain = std::vector<ChainPoint>;
+using Chain = SmallVector<ChainPoint, 24>;
 
 class TileTriangles {
  public:
@@ -92,10 +94,10 @@ class TileTriangles {
   std::vector<uint32_t>& out_;
 };
 
-Chain reversed(Chain chain) {
-  std::reverse(chain.begin(), chain.end());
-  for (ChainPoint& p : chain) std::swap(p.at, p.back);
-  return chain;
+Chain reversed(const Chain& chain) {
+  Chain out;
+  for (size_t i = chain.size(); i-- > 0;) out.push_back({chain[i].vertex, chain[i].back, chain[i].at});
+  return out;
 }
 
 // A one-cell polygon: four sides counter-clockwise (side k from corner k to corner k + 1), each
@@ -142,8 +144,9 @@ void anchoredZip(const Chain& boundary, const Chain& row, TileTriangles& out) {
   const size_t cells = row.size() + 1;
   // Anchor of row interval c: the side point in [c/n, (c+1)/n] nearest its middle; the end
   // intervals are anchored at the corners.
-  std::vector<size_t> anchor(cells);
-  anchor[0] = 0, anchor[cells - 1] = boundary.size() - 1;
+  SmallVector<size_t, 24> anchor;
+  for (size_t c = 0; c < cells; ++c) anchor.push_back(0);
+  anchor[cells - 1] = boundary.size() - 1;
   size_t p = 0;
   for (size_t c = 1; c + 1 < cells; ++c) {
     const double lo = row[c - 1].at, hi = row[c].at, middle = (lo + hi) / 2;
@@ -164,8 +167,8 @@ void anchoredZip(const Chain& boundary, const Chain& row, TileTriangles& out) {
 Chain sideChain(const Stitching& stitching, size_t t, int k) {
   size_t count;
   const SidePoint* points = stitching.side(t, k, count);
-  Chain chain(count);
-  for (size_t i = 0; i < count; ++i) chain[i] = {points[i].vertex, points[i].at, points[i].back};
+  Chain chain;
+  for (size_t i = 0; i < count; ++i) chain.push_back({points[i].vertex, points[i].at, points[i].back});
   return chain;
 }
 
