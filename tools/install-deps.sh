@@ -8,6 +8,8 @@ packages=(
   build-essential cmake ninja-build pkg-config clang-14 libclang-rt-14-dev clang-format
   # geometry core
   libosd-dev libtinygltf-dev nlohmann-json3-dev libtbb-dev
+  # measured distances to the limit surface (tests/support, tools/oracle_rates)
+  libnanoflann-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # command line and logs

@@ -35,14 +35,31 @@ FarPatchReference::FarPatchReference(const ControlMesh& mesh, int isolationLevel
 bool FarPatchReference::evaluate(const PatchDomain& domain, double s, double t, Vec3d& position) const {
   double u, v;
   domain.map(s, t, u, v);
-  int ptexFace = ptex_->GetFaceId(domain.baseFace) + (domain.subFace < 0 ? 0 : domain.subFace);
+  return evaluateFace(domain.baseFace, domain.subFace, u, v, position);
+}
+
+// Far's Ptex faces are the quads and the normalized sub-faces of every other face, in order, so
+// (face, subFace, u, v) is a Ptex coordinate; EvaluateBasis returns derivatives in it.
+bool FarPatchReference::evaluateFace(int face, int subFace, double u, double v, Vec3d& position,
+                                     Vec3d* du, Vec3d* dv) const {
+  int ptexFace = ptex_->GetFaceId(face) + (subFace < 0 ? 0 : subFace);
   const Far::PatchTable::PatchHandle* handle = map_->FindPatch(ptexFace, u, v);
   if (handle == nullptr) return false;
   double w[20], wu[20], wv[20];
   table_->EvaluateBasis(*handle, u, v, w, wu, wv);
   auto cvs = table_->GetPatchVertices(*handle);
   position = Vec3d();
-  for (int i = 0; i < cvs.size(); ++i) position += points_[cvs[i]] * w[i];
+  Vec3d pu, pv;
+  for (int i = 0; i < cvs.size(); ++i) {
+    position += points_[cvs[i]] * w[i];
+    pu += points_[cvs[i]] * wu[i];
+    pv += points_[cvs[i]] * wv[i];
+  }
+  // EvaluateBasis scales derivatives by 2^depth, but a non-quad's Ptex sub-face already starts at
+  // depth 1 (measured against finite differences: twice the true derivative on every sub-face).
+  const double scale = table_->GetPatchParam(*handle).NonQuadRoot() ? 0.5 : 1.0;
+  if (du) *du = pu * scale;
+  if (dv) *dv = pv * scale;
   return true;
 }
 

@@ -20,6 +20,11 @@ class FarPatchReference {
  public:
   explicit FarPatchReference(const ControlMesh& mesh, int isolationLevel = 10);
   bool evaluate(const PatchDomain& domain, double s, double t, Vec3d& position) const;
+  // Limit position at (u, v) of a base face (normalized sub-face coordinates for n-gons, as
+  // BfrReference::evaluateFace), with first derivatives in those coordinates when asked for.
+  // Const and thread-safe; false for a hole.
+  bool evaluateFace(int face, int subFace, double u, double v, Vec3d& position, Vec3d* du = nullptr,
+                    Vec3d* dv = nullptr) const;
 
  private:
   std::unique_ptr<Far::TopologyRefiner> refiner_;
