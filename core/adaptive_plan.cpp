@@ -71,6 +71,18 @@ void exactPairBounds(const BezierNet& net, double& pair, double bows[4]) {
   pair = (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4) * (1 + 1e-9);
 }
 
+// |f(½, ½) − L(½, ½)| for the bilinear L through the corners: the pair bound is at least this.
+double centreGap(const BezierNet& net) {
+  static constexpr double kWeight[4] = {1 / 8.0, 3 / 8.0, 3 / 8.0, 1 / 8.0};
+  Vec3d centre;
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 4; ++col) centre += net[4 * row + col] * (kWeight[row] * kWeight[col]);
+  }
+  Vec3d bilinear;
+  for (int c = 0; c < 4; ++c) bilinear += net[kCornerIndex[c]] * 0.25;
+  return length(centre - bilinear);
+}
+
 // Corner c of a square: which side it lies on along u and along v.
 int cornerU(int c) { return c == 1 || c == 2 ? 1 : 0; }
 int cornerV(int c) { return c >= 2 ? 1 : 0; }
@@ -90,7 +102,9 @@ class Planner {
  public:
   Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
       : tree_(tree), patches_(patches), options_(options), tolerance_(options, patches) {}
-  void planRoot(uint32_t root, const TileSquare* conservative, size_t conservativeCount, std::vector<Tile>& out) const;
+  void planRoot(uint32_t root, std::vector<Tile>& out) const;
+  // The square of tile `tile` of `root` planned again with no optimistic one-cell tiles.
+  void planSquare(uint32_t root, const Tile& tile, std::vector<Tile>& out) const;
 
  private:
   struct Candidate {
@@ -104,6 +118,7 @@ class Planner {
     Curvature gm;
     double pair = 0;     // the (1, 1) grid's bound with no points on its sides but its corners
     double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
+    bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
     float lo[3], hi[3];
     double pairWithBows() const { return pair + *std::max_element(bows, bows + 4); }
     double size() const { return std::ldexp(1.0, -level); }
@@ -112,33 +127,26 @@ class Planner {
   Candidate quadrantCandidate(const Candidate& parent, const BezierNet& parentNet, int q) const;
   bool splittable(const Candidate& c) const;
   void split(const Candidate& c, Candidate children[4]) const;
-  Rates gridFor(const Candidate& c) const;
+  Rates gridFor(Candidate& c) const;
+  bool pairMayServe(Candidate& c, double epsilon) const;
   Rates evGridFor(const NodeSquare& n, double epsilon, int minRate) const;
   bool touchesPinchedCorner(const Candidate& c) const;
-  bool conservative(const Candidate& c) const;
   double evTileBound(const NodeSquare& n, int ru, int rv) const;
   Curvature outsideCorners(const NodeSquare& n, const NodeSquare& tile, int ru, int rv) const;
   void plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
   void emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
   double epsilonOf(const Candidate& c) const { return tolerance_.forBox(c.lo, c.hi); }
+  void beginRoot(uint32_t root) const;
 
   const SurfaceTree& tree_;
   const PatchSet& patches_;
   const TessellationOptions& options_;
   const ToleranceModel tolerance_;
-  // The current root's pinched corners and conservative squares (planRoot sets them).
+  // The current root's pinched corners (beginRoot sets them), and whether optimistic one-cell
+  // tiles are off (planSquare).
   mutable uint8_t rootPinched_ = 0;
-  mutable const TileSquare* conservative_ = nullptr;
-  mutable size_t conservativeCount_ = 0;
+  mutable bool conservative_ = false;
 };
-
-bool Planner::conservative(const Candidate& c) const {
-  for (size_t k = 0; k < conservativeCount_; ++k) {
-    const TileSquare& q = conservative_[k];
-    if (q.level <= c.level && (c.ix >> (c.level - q.level)) == q.ix && (c.iy >> (c.level - q.level)) == q.iy) return true;
-  }
-  return false;
-}
 
 Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
   const SurfaceNode& node = tree_.nodes[n.node];
@@ -165,7 +173,7 @@ Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const Bez
   c.m = netCurvature(c.net.data()).scaled(std::ldexp(1.0, 2 * c.level));
   c.standIn = 0;
   c.gm = c.m;
-  exactPairBounds(c.net, c.pair, c.bows);
+  c.pairKnown = false;
   for (int a = 0; a < 3; ++a) {
     double lo = c.net[0][a], hi = lo;
     for (const Vec3d& p : c.net) lo = std::min(lo, p[a]), hi = std::max(hi, p[a]);
@@ -276,13 +284,26 @@ bool Planner::touchesPinchedCorner(const Candidate& c) const {
   return false;
 }
 
-Rates Planner::gridFor(const Candidate& c) const {
+// Whether the (1, 1) grid's pair bound can be within ε, computing it below a leaf only when the
+// gap at the centre (a lower bound of it) leaves room.
+bool Planner::pairMayServe(Candidate& c, double epsilon) const {
+  if (!c.pairKnown) {
+    if (centreGap(c.net) > epsilon) return false;
+    exactPairBounds(c.net, c.pair, c.bows);
+    c.pairKnown = true;
+  }
+  return c.pair <= epsilon;
+}
+
+Rates Planner::gridFor(Candidate& c) const {
   const double epsilon = epsilonOf(c);
   const int minRate = touchesPinchedCorner(c) ? 2 : 1;
-  if (minRate == 1 && c.pairWithBows() <= epsilon) return {1, 1, c.pairWithBows()};
-  // Whether the sides get points beside the corners is known only once the seams are stitched:
-  // the pair alone, to be checked then (planAdaptive's note).
-  if (minRate == 1 && c.pair <= epsilon && !conservative(c)) return {1, 1, c.pair, true};
+  if (minRate == 1 && pairMayServe(c, epsilon)) {
+    if (c.pairWithBows() <= epsilon) return {1, 1, c.pairWithBows()};
+    // Whether the sides get points beside the corners is known only once the seams are stitched:
+    // the pair alone, to be checked then (adaptive_tessellator.h).
+    if (!conservative_) return {1, 1, c.pair, true};
+  }
   Rates best;
   auto consider = [&best](const Rates& r) {
     if (!r.feasible()) return;
@@ -343,9 +364,7 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
 }
 
-void Planner::planRoot(uint32_t root, const TileSquare* conservative, size_t conservativeCount,
-                       std::vector<Tile>& out) const {
-  conservative_ = conservative, conservativeCount_ = conservativeCount;
+void Planner::beginRoot(uint32_t root) const {
   const SurfaceRoot& r = tree_.roots[root];
   const SeamTopology& seams = patches_.adaptive->seams;
   rootPinched_ = 0;
@@ -354,28 +373,71 @@ void Planner::planRoot(uint32_t root, const TileSquare* conservative, size_t con
   } else {
     rootPinched_ = uint8_t(seams.pinched(r.baseFace, r.subFace));
   }
-  const Candidate top = realCandidate({r.node, 0, 0, 0});
+}
+
+void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
+  beginRoot(root);
+  conservative_ = false;
+  Candidate top = realCandidate({tree_.roots[root].node, 0, 0, 0});
   plan(top, gridFor(top), out);
+}
+
+void Planner::planSquare(uint32_t root, const Tile& tile, std::vector<Tile>& out) const {
+  beginRoot(root);
+  conservative_ = true;
+  // The tile's node, then de Casteljau quadrants down to the tile when it lies below a leaf.
+  Candidate c = realCandidate(tile.node);
+  while (c.level < tile.level) {
+    const int d = tile.level - c.level - 1;
+    const int q = int((tile.ix >> d) & 1) | int(((tile.iy >> d) & 1) << 1);
+    const BezierNet net = c.below ? c.net : pieceNet(tree_, patches_, c.real.node);
+    c = quadrantCandidate(c, net, q);
+  }
+  plan(c, gridFor(c), out);
 }
 
 }  // namespace
 
-void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
-               const std::vector<TileSquare>& conservative, const std::vector<uint32_t>& roots, RootTiles& tiles) {
+void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles) {
   validateTessellationOptions(options);
   tiles.resize(tree.roots.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), 16), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), 16), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
-    const Planner planner(tree, patches, options);  // one per task: it keeps the current root's corners
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const uint32_t r = roots[i];
+    const Planner planner(tree, patches, options);  // one per task: it keeps the current root's state
+    for (size_t r = range.begin(); r != range.end(); ++r) {
       tiles[r].clear();
-      if (tree.roots[r].node == kNoNode) continue;
-      const auto first = std::lower_bound(conservative.begin(), conservative.end(), r,
-                                          [](const TileSquare& q, uint32_t root) { return q.root < root; });
-      auto last = first;
-      while (last != conservative.end() && last->root == r) ++last;
-      planner.planRoot(r, conservative.data() + (first - conservative.begin()), size_t(last - first), tiles[r]);
+      if (tree.roots[r].node != kNoNode) planner.planRoot(uint32_t(r), tiles[r]);
+    }
+  });
+}
+
+void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
+                   const std::vector<TileSquare>& failed, RootTiles& tiles) {
+  std::vector<std::pair<size_t, size_t>> roots;  // ranges of `failed` with one root
+  for (size_t i = 0; i < failed.size();) {
+    size_t j = i;
+    while (j < failed.size() && failed[j].root == failed[i].root) ++j;
+    roots.push_back({i, j});
+    i = j;
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), 16), [&](const auto& range) {
+    const Planner planner(tree, patches, options);
+    std::vector<Tile> replaced;
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const uint32_t r = failed[roots[i].first].root;
+      replaced.clear();
+      for (const Tile& tile : tiles[r]) {
+        const bool redo = std::any_of(failed.begin() + roots[i].first, failed.begin() + roots[i].second,
+                                      [&tile](const TileSquare& q) {
+                                        return q.level == tile.level && q.ix == tile.ix && q.iy == tile.iy;
+                                      });
+        if (redo) {
+          planner.planSquare(r, tile, replaced);
+        } else {
+          replaced.push_back(tile);
+        }
+      }
+      tiles[r].swap(replaced);
     }
   });
 }
@@ -395,15 +457,6 @@ AdaptivePlan flattenPlan(const RootTiles& tiles) {
   }
   plan.rootFirstTile.push_back(uint32_t(plan.tiles.size()));
   return plan;
-}
-
-AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
-                          const std::vector<TileSquare>& conservative) {
-  std::vector<uint32_t> roots(tree.roots.size());
-  std::iota(roots.begin(), roots.end(), 0u);
-  RootTiles tiles;
-  planRoots(tree, patches, options, conservative, roots, tiles);
-  return flattenPlan(tiles);
 }
 
 }  // namespace tessera

@@ -41,7 +41,7 @@ struct AdaptivePlan {
 // Tiles cap their rates at this many cells a side and split beyond.
 inline constexpr int kMaxTileRate = 64;
 
-// A square of a root (sorted by root): planning inside it makes no optimistic one-cell tiles.
+// A tile's square in its root (sorted by root).
 struct TileSquare {
   uint32_t root;
   int level;
@@ -49,16 +49,17 @@ struct TileSquare {
   friend bool operator<(const TileSquare& a, const TileSquare& b) { return a.root < b.root; }
 };
 
-// One-cell tiles are planned optimistically (pendingPair) except inside `conservative`; the
-// caller checks them against their neighbours and plans again where one fails
-// (adaptive_tessellator.h).
-AdaptivePlan planAdaptive(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
-                          const std::vector<TileSquare>& conservative = {});
-
-// The same, root by root: plans `roots` into tiles[root] (tiles is sized to every root).
+// Plans every root into tiles[root]. One-cell tiles may be planned optimistically (pendingPair):
+// the caller checks them against their neighbours (adaptive_tessellator.h) and plans the squares
+// of those that fail again with replanSquares.
 using RootTiles = std::vector<std::vector<Tile>>;
-void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
-               const std::vector<TileSquare>& conservative, const std::vector<uint32_t>& roots, RootTiles& tiles);
+void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles);
+
+// Each failed pending tile (`failed` sorted by root) replaced in place by the tiles of its square
+// planned without the optimistic shortcut.
+void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
+                   const std::vector<TileSquare>& failed, RootTiles& tiles);
+
 AdaptivePlan flattenPlan(const RootTiles& tiles);
 
 }  // namespace tessera

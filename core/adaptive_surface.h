@@ -2,6 +2,7 @@
 // seams between roots (built once by buildPatchSet).
 #pragma once
 
+#include "core/seam_lines.h"
 #include "core/seam_topology.h"
 #include "core/surface_tree.h"
 #include "core/tile_neighbors.h"
@@ -12,6 +13,7 @@ struct AdaptiveSurface {
   SurfaceTree tree;
   SeamTopology seams;
   RootSeams rootSeams;
+  SeamLines lines;
 
   size_t bytes() const;
 };

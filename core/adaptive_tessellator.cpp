@@ -16,7 +16,7 @@ namespace tessera {
 size_t AdaptiveSurface::bytes() const {
   auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
   return tree.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
-         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched);
+         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + lines.bytes();
 }
 
 namespace {
@@ -211,6 +211,12 @@ std::vector<uint32_t> affectedRoots(const RootSeams& seams, const std::vector<Ti
   return roots;
 }
 
+void reindex(TileNeighbors& neighbors, const std::vector<TileSquare>& changed) {
+  for (size_t i = 0; i < changed.size(); ++i) {
+    if (i == 0 || changed[i].root != changed[i - 1].root) neighbors.reindex(changed[i].root);
+  }
+}
+
 // Settles every pending tile's bound from its sides as stitched; false if one breaks its ε (the
 // prediction missed a point: not expected, but then planning goes on conservatively there).
 bool settlePending(AdaptivePlan& plan, const Stitching& stitching, std::vector<TileSquare>& failed) {
@@ -245,24 +251,17 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
   AdaptiveLayout layout;
   std::vector<uint32_t> roots(surface.tree.roots.size());
   std::iota(roots.begin(), roots.end(), 0u);
-  std::vector<TileSquare> conservative;
   RootTiles tiles;
-  planRoots(surface.tree, patches, options, conservative, roots, tiles);
+  planRoots(surface.tree, patches, options, tiles);
   TileNeighbors neighbors(surface.rootSeams, tiles);
   for (;;) {
     for (std::vector<uint32_t> check = roots;;) {
       ++layout.rounds;
       const std::vector<TileSquare> failed = checkPending(tiles, neighbors, check);
       if (failed.empty()) break;
-      // A failed square stays conservative for good, so the rounds end.
-      conservative.insert(conservative.end(), failed.begin(), failed.end());
-      std::stable_sort(conservative.begin(), conservative.end());
-      std::vector<uint32_t> replanned;
-      for (const TileSquare& q : failed) replanned.push_back(q.root);
-      std::sort(replanned.begin(), replanned.end());
-      replanned.erase(std::unique(replanned.begin(), replanned.end()), replanned.end());
-      planRoots(surface.tree, patches, options, conservative, replanned, tiles);
-      for (uint32_t r : replanned) neighbors.reindex(r);
+      // A failed square is planned with no pending tiles, so the rounds end.
+      replanSquares(surface.tree, patches, options, failed, tiles);
+      reindex(neighbors, failed);
       check = affectedRoots(surface.rootSeams, failed);
     }
     layout.plan = flattenPlan(tiles);
@@ -271,13 +270,13 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
                  " triangles, over the budget of " + std::to_string(options.maxTriangles) +
                  "; raise the tolerance or the triangle budget");
     }
-    layout.stitching = stitchTiles(layout.plan, surface.tree, surface.seams, options.checkpoint);
+    layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint);
     std::vector<TileSquare> failed;
     if (settlePending(layout.plan, layout.stitching, failed)) return layout;
-    conservative.insert(conservative.end(), failed.begin(), failed.end());
-    std::stable_sort(conservative.begin(), conservative.end());
-    planRoots(surface.tree, patches, options, conservative, roots, tiles);
-    for (uint32_t r : roots) neighbors.reindex(r);
+    // The failed squares planned again; the other pending tiles stay pending in `tiles` and are
+    // checked again with their new neighbours.
+    replanSquares(surface.tree, patches, options, failed, tiles);
+    reindex(neighbors, failed);
   }
 }
 

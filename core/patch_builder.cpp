@@ -278,6 +278,7 @@ PatchSet PatchSetBuilder::build() {
   surface->tree = buildSurfaceTree(result_, mesh_);
   surface->seams = SeamTopology(mesh_);
   surface->rootSeams = RootSeams(surface->tree, surface->seams);
+  surface->lines = SeamLines(surface->tree, surface->seams, mesh_.vertexCount());
   result_.adaptive = std::move(surface);
   return std::move(result_);
 }

@@ -97,60 +97,6 @@ bool SeamTopology::sharp(int v0, int v1) const {
   return std::binary_search(sharpEdges.begin(), sharpEdges.end(), ordered(v0, v1));
 }
 
-namespace {
-
-// A point at `fromA` (scale kLineScale) along base edge (a → b), named from its lower vertex.
-SeamPoint edgePoint(int a, int b, int64_t fromA) {
-  const int64_t t = a < b ? fromA : kLineScale - fromA;
-  const auto [lo, hi] = ordered(a, b);
-  if (t == 0) return {SeamPoint::kVertex, lo, 0, 0};
-  if (t == kLineScale) return {SeamPoint::kVertex, hi, 0, 0};
-  return {SeamPoint::kEdge, lo, hi, t};
-}
-
-SeamPoint spokePoint(const SeamTopology& topology, int face, int spoke, int64_t t) {
-  const int n = topology.faceSizes[face];
-  spoke = ((spoke % n) + n) % n;
-  if (t == kLineScale) return {SeamPoint::kCenter, face, 0, 0};
-  if (t == 0) return edgePoint(topology.corner(face, spoke), topology.corner(face, spoke + 1), kLineScale / 2);
-  return {SeamPoint::kSpoke, face, spoke, t};
-}
-
-SeamPoint boundaryPoint(const SeamTopology& topology, int face, int sub, int64_t x, int64_t y) {
-  auto c = [&](int k) { return topology.corner(face, k); };
-  // Root coordinates at kRootScale are line positions at kLineScale doubled (whole edges) or as
-  // they are (half edges).
-  if (sub < 0) {
-    if (y == 0) return edgePoint(c(0), c(1), 2 * x);
-    if (x == kRootScale) return edgePoint(c(1), c(2), 2 * y);
-    if (y == kRootScale) return edgePoint(c(2), c(3), kLineScale - 2 * x);
-    return edgePoint(c(3), c(0), kLineScale - 2 * y);
-  }
-  if (y == 0) return edgePoint(c(sub), c(sub + 1), x);
-  if (x == 0) return edgePoint(c(sub - 1), c(sub), kLineScale - y);
-  if (x == kRootScale) return spokePoint(topology, face, sub, 2 * y);
-  return spokePoint(topology, face, sub - 1, 2 * x);
-}
-
-}  // namespace
-
-SeamPoint rootBoundaryPoint(const SeamTopology& topology, int face, int sub, int64_t x, int64_t y, int& qualifier) {
-  const SeamPoint point = boundaryPoint(topology, face, sub, x, y);
-  qualifier = -1;
-  if (point.kind == SeamPoint::kVertex) {
-    for (int k = 0; k < topology.faceSizes[face]; ++k) {
-      if (topology.corner(face, k) == point.a) qualifier = topology.wedge(face, k);
-    }
-  } else if (point.kind == SeamPoint::kEdge && topology.sharp(point.a, point.b)) {
-    qualifier = face;
-  }
-  return point;
-}
-
-SeamPoint pointOnLine(const SeamTopology& topology, const SeamLine& line, int64_t t) {
-  return line.kind == SeamLine::kEdge ? edgePoint(line.a, line.b, t) : spokePoint(topology, line.a, line.b, t);
-}
-
 SideLine rootSideLine(const SeamTopology& topology, int face, int sub, int side) {
   auto c = [&](int k) { return topology.corner(face, k); };
   // The base edge (from → to) a side runs along: t from `from` is origin + sign·s/halves.

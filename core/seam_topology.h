@@ -1,6 +1,6 @@
 // Where roots meet (docs/ADAPTIVE.md §5): the base edge or n-gon spoke each root side lies on and
-// its parameter there, canonical names for points that several roots share, and where the
-// surface is not tangent-continuous, so that vertices there get one normal per side. Roots are a
+// its parameter there, and where the surface is not tangent-continuous, so that vertices there
+// get one normal per side (seam_lines.h numbers the lines and the points they share). Roots are a
 // quad base face or one quad sub-face of an n-gon; sub-face k has (0,0) at corner k, (1,0) at
 // the middle of edge k, (1,1) at the centre and (0,1) at the middle of edge k − 1.
 //
@@ -32,20 +32,6 @@ struct SeamLine {
   }
   friend bool operator==(const SeamLine& x, const SeamLine& y) {
     return x.kind == y.kind && x.a == y.a && x.b == y.b;
-  }
-};
-
-// A point on the boundary of roots, named the same from every root that has it.
-struct SeamPoint {
-  enum Kind : uint8_t { kVertex, kEdge, kSpoke, kCenter } kind = kVertex;
-  int a = 0, b = 0;  // vertex | edge (lo, hi) | spoke (face, k) | centre face
-  int64_t t = 0;     // position on the edge (from its lower vertex) or spoke, scale kLineScale
-
-  friend bool operator<(const SeamPoint& p, const SeamPoint& q) {
-    return std::tie(p.kind, p.a, p.b, p.t) < std::tie(q.kind, q.a, q.b, q.t);
-  }
-  friend bool operator==(const SeamPoint& p, const SeamPoint& q) {
-    return p.kind == q.kind && p.a == q.a && p.b == q.b && p.t == q.t;
   }
 };
 
@@ -83,14 +69,5 @@ struct SideLine {
 };
 
 SideLine rootSideLine(const SeamTopology& topology, int face, int subFace, int side);
-
-// The name of root point (X, Y) (scale kRootScale) on the root's boundary, and how its normal
-// splits: the face (inside an infinitely sharp edge) or wedge (at a base vertex) that qualifies
-// its vertex for this root, -1 where one normal serves all.
-SeamPoint rootBoundaryPoint(const SeamTopology& topology, int face, int subFace, int64_t x, int64_t y,
-                            int& qualifier);
-
-// The point at t (scale kLineScale) of a line.
-SeamPoint pointOnLine(const SeamTopology& topology, const SeamLine& line, int64_t t);
 
 }  // namespace tessera

@@ -2,7 +2,6 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <numeric>
@@ -11,12 +10,22 @@ namespace tessera {
 
 namespace {
 
+// Line positions need up to 128 bits in the worst case (deep tiles, many distinct rates on one
+// line), but nearly always fit 64, where division is several times cheaper.
 using Int = __int128;
+
+bool fits64(Int x) { return x == Int(int64_t(x)); }
+
+Int quotient(Int a, Int b) { return fits64(a) && fits64(b) ? Int(int64_t(a) / int64_t(b)) : a / b; }
+
+Int remainder(Int a, Int b) { return fits64(a) && fits64(b) ? Int(int64_t(a) % int64_t(b)) : a % b; }
+
+long double toLongDouble(Int x) { return fits64(x) ? (long double)int64_t(x) : (long double)x; }
 
 Int gcd(Int a, Int b) {
   if (a < 0) a = -a;
   while (b != 0) {
-    const Int r = a % b;
+    const Int r = remainder(a, b);
     a = b, b = r;
   }
   return a;
@@ -49,7 +58,7 @@ void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
   Int rates = 1;
   int exp = 0;
   for (size_t i = 0; i < count; ++i) {
-    rates = rates / gcd(rates, uses[i].cells) * uses[i].cells;
+    rates = quotient(rates, gcd(rates, uses[i].cells)) * uses[i].cells;
     exp = std::max(exp, uses[i].exp);
   }
   out.denominator = rates << exp;
@@ -57,7 +66,7 @@ void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
   out.points.clear();
   for (size_t i = 0; i < count; ++i) {
     const LineUse& use = uses[i];
-    out.cell[i] = out.denominator / (Int(use.cells) << use.exp);
+    out.cell[i] = quotient(out.denominator, Int(use.cells) << use.exp);
     const Int p0 = use.a * out.cell[i], p1 = (use.a + use.sign * use.cells) * out.cell[i];
     out.lo[i] = std::min(p0, p1), out.hi[i] = std::max(p0, p1);
     out.points.push_back(out.lo[i]);
@@ -85,7 +94,7 @@ void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
     auto p = std::lower_bound(out.points.begin(), out.points.end(), out.lo[i]);
     for (; p + 1 != out.points.end() && *(p + 1) <= out.hi[i]; ++p) {
       if (*(p + 1) - *p <= out.cell[i]) continue;
-      for (Int own = out.lo[i] + ((*p - out.lo[i]) / out.cell[i] + 1) * out.cell[i]; own < *(p + 1); own += out.cell[i]) {
+      for (Int own = out.lo[i] + (quotient(*p - out.lo[i], out.cell[i]) + 1) * out.cell[i]; own < *(p + 1); own += out.cell[i]) {
         added.push_back(own);
       }
     }
@@ -118,253 +127,218 @@ void sideCoordinates(const LineUse& use, Int lo, Int hi, Int cell, Int point, do
   Int fromLo = point - lo, toHi = hi - point;
   if (use.sign < 0) std::swap(fromLo, toHi);
   const Int span = hi - lo;
-  if (fromLo % cell == 0) {
-    const int k = int(fromLo / cell);
+  if (remainder(fromLo, cell) == 0) {
+    const int k = int(quotient(fromLo, cell));
     at = double(k) / use.cells, back = double(use.cells - k) / use.cells;
     return;
   }
-  const Int g = gcd(fromLo, span);
-  at = double((long double)(fromLo / g) / (long double)(span / g));
-  back = double((long double)(toHi / g) / (long double)(span / g));
+  at = double(toLongDouble(fromLo) / toLongDouble(span));
+  back = double(toLongDouble(toHi) / toLongDouble(span));
 }
 
-// A vertex reference while roots are stitched: a root's own vertex (local id), or a point on the
-// root's boundary (an index into the root's boundary corners, or a global line point).
-enum class Ref : uint8_t { kLocal, kCorner, kLinePoint };
+// A vertex reference while roots are stitched: a root's own vertex (root-local id), the end of a
+// tile side on the root's boundary (side 4t + k, `end` 0 or 1 in the side's coordinate), or a
+// seam vertex (a point of a boundary line).
+enum class Ref : uint8_t { kLocal, kSideEnd, kSeam };
 struct PendingPoint {
   uint32_t id;
   Ref kind;
+  uint8_t end;
   int qualifier;  // normal split for this root (-1: none)
   double at, back;
 };
 
-struct BoundaryCorner {
-  SeamPoint key;
-  uint32_t tile;
-  int qualifier;
-  double u, v;
+// A tile side on a line inside its root, sorted by line: (axis, fixed coordinate) as one key
+// (axis 1: v fixed, sides 0 and 2), then in the order the sides were made (tile, side).
+struct InnerKey {
+  uint64_t line;
+  uint32_t use;
+  friend bool operator<(const InnerKey& x, const InnerKey& y) { return x.line < y.line || (x.line == y.line && x.use < y.use); }
+  int axis() const { return int(line >> 63); }
+  int64_t fixed() const { return int64_t(line & ~(uint64_t(1) << 63)); }
 };
 
-struct BoundaryUse {
-  SeamLine line;
-  LineUse use;
-  bool sharp;
-  int face;
-};
-
-// A tile side on a line inside its root: the line is (axis, fixed coordinate).
-struct InnerUse {
-  int axis;  // 0: u fixed (sides 1, 3), 1: v fixed (sides 0, 2)
-  int64_t fixed;
-  LineUse use;
-};
-
-// Room a thread reuses from root to root.
-struct RootScratch {
+// What one thread writes while stitching (roots and lines name their slices of it), and the
+// room it reuses from root to root and line to line.
+struct Arena {
+  std::vector<VertexRequest> locals;  // roots' own vertices: inner corners, inner line points, grids
+  std::vector<PendingPoint> pool;     // points of tile sides inside roots
+  std::vector<LineUse> boundaryUses;  // tile sides on roots' boundaries, root side by root side
+  std::vector<Int> linePoints;        // resolved boundary lines
   std::vector<std::pair<int64_t, int64_t>> inner;
-  std::vector<InnerUse> uses;
+  std::vector<LineUse> innerUses;
+  std::vector<InnerKey> innerKeys;
   std::vector<LineUse> line;
   LinePoints points;
   std::vector<PendingPoint> resolved;
   std::vector<uint32_t> endOf;
 };
 
-// What stitching one root produces before the roots are joined.
-struct RootStitch {
-  std::vector<VertexRequest> locals;  // local vertices: inner corners, inner line points, grids
-  std::vector<BoundaryCorner> corners;
-  std::vector<BoundaryUse> boundaryUses;
-  // Points of the sides inside the root: side k of the root's tile t is sides[4t + k] in pool
-  // (count 0: a side on the root's boundary, joined later).
-  std::vector<PendingPoint> pool;
-  std::vector<std::pair<uint32_t, uint32_t>> sides;
-  std::vector<uint32_t> gridFirst;  // local id of each tile's inner grid
+struct RootSlice {
+  const Arena* arena = nullptr;  // null: a root without tiles (a hole)
+  uint32_t localsFrom = 0, localsCount = 0;
+  uint32_t usesFrom[5] = {0, 0, 0, 0, 0};  // root side k's boundary uses: [usesFrom[k], usesFrom[k + 1])
 };
+
+struct Slot {
+  uint32_t offset = 0, count = 0;
+};
+
+// A boundary line once resolved: its points, how many are its own (not nodes), and for each node
+// the vertex request of the lowest tile with a corner there.
+struct LineRecord {
+  const Arena* arena = nullptr;
+  Int denominator = 1;
+  uint32_t from = 0, count = 0, ownCount = 0, firstOwn = 0;
+  VertexRequest claim[3] = {{UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}};
+};
+
+constexpr int64_t at(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
+
+bool onRootBoundary(const Tile& tile, int k) {
+  const uint64_t end = uint64_t(1) << tile.level;
+  return k == 0 ? tile.iy == 0 : k == 1 ? tile.ix + 1 == end : k == 2 ? tile.iy + 1 == end : tile.ix == 0;
+}
+
+// Side k of tile t on a line, before its position there is set.
+LineUse sideUse(const Tile& tile, uint32_t t, int k) {
+  LineUse use;
+  const bool alongU = k == 0 || k == 2;
+  use.cells = alongU ? tile.ru : tile.rv;
+  use.exp = tile.level;
+  use.rigid = ((tile.ru == 1) != (tile.rv == 1)) && use.cells > 1;  // a strip's long side
+  use.tile = t;
+  use.side = uint8_t(k);
+  return use;
+}
+
+// The point at `along` (0..1) of side k of a tile, in root coordinates.
+void sidePoint(const Tile& tile, int k, double along, double& u, double& v) {
+  const double s = tile.size();
+  const bool alongU = k == 0 || k == 2;
+  u = alongU ? (double(tile.ix) + along) * s : (double(tile.ix) + (k == 1)) * s;
+  v = alongU ? (double(tile.iy) + (k == 2)) * s : (double(tile.iy) + along) * s;
+}
+
+// Tile t's side on its root's boundary through its corner (x, y), as side 4t + k, and which end.
+uint32_t boundarySideEnd(const Tile& tile, uint32_t t, int64_t x, int64_t y, uint8_t& end) {
+  int k;
+  if (y == 0) {
+    k = 0, end = x != at(tile.level, tile.ix);
+  } else if (x == kRootScale) {
+    k = 1, end = y != at(tile.level, tile.iy);
+  } else if (y == kRootScale) {
+    k = 2, end = x != at(tile.level, tile.ix);
+  } else {
+    k = 3, end = y != at(tile.level, tile.iy);
+  }
+  return 4 * t + uint32_t(k);
+}
 
 class Stitcher {
  public:
-  Stitcher(const AdaptivePlan& plan, const SurfaceTree& tree, const SeamTopology& seams,
+  Stitcher(const AdaptivePlan& plan, const SurfaceTree& tree, const SeamLines& lines,
            const std::function<void()>& checkpoint)
-      : plan_(plan), tree_(tree), seams_(seams), checkpoint_(checkpoint) {}
+      : plan_(plan), tree_(tree), lines_(lines), checkpoint_(checkpoint) {}
   Stitching run();
 
  private:
-  void stitchRoot(uint32_t root, RootStitch& out, RootScratch& scratch) const;
-  uint32_t cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y, const std::vector<std::pair<int64_t, int64_t>>& inner,
-                     RootStitch& out, Ref& kind, int& qualifier) const;
-  void joinBoundaries();
+  void stitchRoot(uint32_t root, Arena& a);
+  void resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a);
+  void gatherUses(const SeamLines::Line& line, std::vector<LineUse>& uses) const;
+  void resolveBoundaryLine(uint32_t l, Arena& a);
+  void numberSeamVertices();
+  void writeBoundaryLine(uint32_t l, Arena& a);
+  int boundaryQualifier(const LineUse& use, const SeamLines::Line& line, bool end, double along) const;
   void assemble();
   void splitNormals();
 
   const AdaptivePlan& plan_;
   const SurfaceTree& tree_;
-  const SeamTopology& seams_;
+  const SeamLines& lines_;
   const std::function<void()>& checkpoint_;
-  std::vector<RootStitch> roots_;
-  std::vector<uint32_t> localFirst_;               // per root, its first final vertex
-  std::vector<std::vector<uint32_t>> cornerIds_;   // per root: boundary corner → final vertex
-  std::vector<VertexRequest> seamVertices_;        // boundary corners, then boundary line points
-  uint32_t seamFirst_ = 0;
-  // Sides on base edges and spokes: tile side 4t + k is boundaryRange_[4t + k] in boundaryPool_.
+  tbb::enumerable_thread_specific<Arena> arenas_;
+  std::vector<uint32_t> tileRoot_;
+  std::vector<RootSlice> slices_;
+  std::vector<Slot> innerSide_;      // per tile side 4t + k inside its root: its points in the arena's pool
+  std::vector<uint32_t> gridLocal_;  // per tile: root-local id of its first grid vertex
+  std::vector<LineRecord> records_;  // per line
+  std::vector<Slot> boundarySide_;   // per tile side on its root's boundary: its points in boundaryPool_
   std::vector<PendingPoint> boundaryPool_;
-  std::vector<std::pair<uint32_t, uint32_t>> boundaryRange_;
-  // A side's points wherever they are.
-  std::pair<const PendingPoint*, uint32_t> sidePoints(uint32_t root, size_t k) const {
-    const auto [offset, count] = roots_[root].sides[k];
-    if (count > 0) return {roots_[root].pool.data() + offset, count};
-    const auto [boundaryOffset, boundaryCount] = boundaryRange_[4 * size_t(plan_.rootFirstTile[root]) + k];
-    return {boundaryPool_.data() + boundaryOffset, boundaryCount};
-  }
+  std::vector<uint32_t> nodeVertex_;  // per node: its seam vertex
+  std::vector<VertexRequest> seamVertices_;
+  std::vector<uint32_t> localFirst_;  // per root, its first final vertex
+  uint32_t seamFirst_ = 0;
   Stitching out_;
 };
 
-constexpr int64_t at(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
-
-// A tile corner: a local vertex inside the root, or a boundary corner.
-uint32_t Stitcher::cornerRef(uint32_t root, uint32_t tile, int64_t x, int64_t y,
-                             const std::vector<std::pair<int64_t, int64_t>>& inner, RootStitch& out, Ref& kind,
-                             int& qualifier) const {
-  qualifier = -1;
-  if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) {
-    kind = Ref::kLocal;
-    return uint32_t(std::lower_bound(inner.begin(), inner.end(), std::pair{x, y}) - inner.begin());
-  }
-  kind = Ref::kCorner;
-  const SurfaceRoot& r = tree_.roots[root];
-  BoundaryCorner corner;
-  corner.key = rootBoundaryPoint(seams_, r.baseFace, r.subFace, x, y, corner.qualifier);
-  corner.tile = tile;
-  corner.u = std::ldexp(double(x), -kRootBits), corner.v = std::ldexp(double(y), -kRootBits);
-  qualifier = corner.qualifier;
-  out.corners.push_back(corner);
-  return uint32_t(out.corners.size() - 1);
-}
-
 // One root: its inner corners and the lines inside it are resolved here; its sides on base edges
-// and spokes wait for the other roots there (joinBoundaries).
-void Stitcher::stitchRoot(uint32_t root, RootStitch& out, RootScratch& scratch) const {
+// and spokes wait for the other roots there (resolveBoundaryLine).
+void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   const uint32_t first = plan_.rootFirstTile[root], last = plan_.rootFirstTile[root + 1];
-  const SurfaceRoot& r = tree_.roots[root];
-  out.sides.assign(4 * size_t(last - first), {0, 0});
-  // Inner corners, numbered in (x, y) order.
-  std::vector<std::pair<int64_t, int64_t>>& inner = scratch.inner;
-  inner.clear();
+  RootSlice& slice = slices_[root];
+  slice.arena = &a;
+  slice.localsFrom = uint32_t(a.locals.size());
+  // Inner corners first, numbered in (x, y) order.
+  a.inner.clear();
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     for (int c = 0; c < 4; ++c) {
       const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
-      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) inner.push_back({x, y});
+      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) a.inner.push_back({x, y});
     }
   }
-  std::sort(inner.begin(), inner.end());
-  inner.erase(std::unique(inner.begin(), inner.end()), inner.end());
-  // Every tile corner on the root's boundary is named, whatever sides meet there.
-  for (uint32_t t = first; t < last; ++t) {
-    const Tile& tile = plan_.tiles[t];
-    for (int c = 0; c < 4; ++c) {
-      const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
-      Ref kind;
-      int qualifier;
-      if (!(x > 0 && x < kRootScale && y > 0 && y < kRootScale)) cornerRef(root, t, x, y, inner, out, kind, qualifier);
+  std::sort(a.inner.begin(), a.inner.end());
+  a.inner.erase(std::unique(a.inner.begin(), a.inner.end()), a.inner.end());
+  for (const auto& [x, y] : a.inner) {
+    a.locals.push_back({UINT32_MAX, std::ldexp(double(x), -kRootBits), std::ldexp(double(y), -kRootBits), 0});
+  }
+  // Sides on the root's boundary, root side by root side, placed on their line.
+  for (int k = 0; k < 4; ++k) {
+    slice.usesFrom[k] = uint32_t(a.boundaryUses.size());
+    const SideLine& line = lines_.sideLine[4 * size_t(root) + k];
+    const int d = line.halves == 2 ? 1 : 0;
+    for (uint32_t t = first; t < last; ++t) {
+      const Tile& tile = plan_.tiles[t];
+      if (!onRootBoundary(tile, k)) continue;
+      LineUse use = sideUse(tile, t, k);
+      const uint64_t along = k == 0 || k == 2 ? tile.ix : tile.iy;
+      use.a = (Int(line.origin) * use.cells << (tile.level + d)) + line.sign * Int(along) * use.cells;
+      use.sign = line.sign;
+      use.exp = tile.level + d;
+      a.boundaryUses.push_back(use);
     }
   }
-  for (const auto& [x, y] : inner) {
-    out.locals.push_back({UINT32_MAX, std::ldexp(double(x), -kRootBits), std::ldexp(double(y), -kRootBits), 0});
-  }
-  // Sides: inside the root they go on lines keyed (axis, fixed coordinate); on its boundary they
-  // wait for joinBoundaries.
-  std::vector<InnerUse>& uses = scratch.uses;
-  uses.clear();
+  slice.usesFrom[4] = uint32_t(a.boundaryUses.size());
+  // Sides inside the root, on lines keyed (axis, fixed coordinate).
+  a.innerUses.clear();
+  a.innerKeys.clear();
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
-    const uint64_t end = uint64_t(1) << tile.level;
-    const bool strip = (tile.ru == 1) != (tile.rv == 1);
     for (int k = 0; k < 4; ++k) {
-      const bool alongU = k == 0 || k == 2;
-      LineUse use;
-      use.cells = alongU ? tile.ru : tile.rv;
-      use.exp = tile.level;
-      use.rigid = strip && use.cells > 1;
-      use.tile = t;
-      use.side = uint8_t(k);
-      const uint64_t along = alongU ? tile.ix : tile.iy;
-      const bool onBoundary = k == 0 ? tile.iy == 0 : k == 1 ? tile.ix + 1 == end : k == 2 ? tile.iy + 1 == end : tile.ix == 0;
-      if (onBoundary) {
-        const SideLine line = rootSideLine(seams_, r.baseFace, r.subFace, k);
-        const int d = line.halves == 2 ? 1 : 0;
-        use.a = (Int(line.origin) * use.cells << (tile.level + d)) + line.sign * Int(along) * use.cells;
-        use.sign = line.sign;
-        use.exp = tile.level + d;
-        out.boundaryUses.push_back({line.line, use, line.sharp, r.baseFace});
-        continue;
-      }
-      use.a = Int(along) * use.cells;
+      if (onRootBoundary(tile, k)) continue;
+      LineUse use = sideUse(tile, t, k);
+      use.a = Int(k == 0 || k == 2 ? tile.ix : tile.iy) * use.cells;
       const uint64_t fixedIndex = k == 0 ? tile.iy : k == 1 ? tile.ix + 1 : k == 2 ? tile.iy + 1 : tile.ix;
-      uses.push_back({alongU ? 1 : 0, at(tile.level, fixedIndex), use});
+      const uint64_t axis = k == 0 || k == 2 ? 1 : 0;
+      a.innerKeys.push_back({axis << 63 | uint64_t(at(tile.level, fixedIndex)), uint32_t(a.innerUses.size())});
+      a.innerUses.push_back(use);
     }
   }
-  std::sort(uses.begin(), uses.end(), [](const InnerUse& x, const InnerUse& y) {
-    if (x.axis != y.axis) return x.axis < y.axis;
-    if (x.fixed != y.fixed) return x.fixed < y.fixed;
-    return x.use.tile < y.use.tile || (x.use.tile == y.use.tile && x.use.side < y.use.side);
-  });
-  std::vector<LineUse>& line = scratch.line;
-  LinePoints& points = scratch.points;
-  std::vector<PendingPoint>& resolved = scratch.resolved;
-  std::vector<uint32_t>& endOf = scratch.endOf;
-  for (size_t i = 0; i < uses.size();) {
+  std::sort(a.innerKeys.begin(), a.innerKeys.end());
+  for (size_t i = 0; i < a.innerKeys.size();) {
     size_t j = i;
-    line.clear();
-    while (j < uses.size() && uses[j].axis == uses[i].axis && uses[j].fixed == uses[i].fixed) line.push_back(uses[j++].use);
-    resolveLine(line.data(), line.size(), points);
-    // Each point: a tile corner (the end of some side) or the line's own vertex.
-    resolved.assign(points.points.size(), {0, Ref::kLocal, -1, 0, 0});
-    // A point that ends a side is that side's tile corner (0: not an end).
-    endOf.assign(points.points.size(), 0);
-    for (size_t u = 0; u < line.size(); ++u) {
-      for (const Int end : {points.lo[u], points.hi[u]}) {
-        endOf[std::lower_bound(points.points.begin(), points.points.end(), end) - points.points.begin()] = line[u].tile + 1;
-      }
-    }
-    const std::vector<uint32_t>& order = byStart(points);
-    size_t cursor = 0;
-    for (size_t p = 0; p < points.points.size(); ++p) {
-      const Int value = points.points[p];
-      // Position along the line at kRootScale (exact for tile corners, which are dyadic).
-      const Int scaled = (value << kRootBits) / points.denominator;
-      const int64_t x = uses[i].axis == 1 ? int64_t(scaled) : uses[i].fixed;
-      const int64_t y = uses[i].axis == 1 ? uses[i].fixed : int64_t(scaled);
-      PendingPoint& point = resolved[p];
-      if (endOf[p] != 0) {
-        point.id = cornerRef(root, endOf[p] - 1, x, y, inner, out, point.kind, point.qualifier);
-        continue;
-      }
-      const size_t owner = holder(points, order, cursor, value);
-      point.id = uint32_t(out.locals.size());
-      const double along = double((long double)value / (long double)points.denominator);
-      const double fixed = std::ldexp(double(uses[i].fixed), -kRootBits);
-      out.locals.push_back({line[owner].tile, uses[i].axis == 1 ? along : fixed, uses[i].axis == 1 ? fixed : along, 0});
-    }
-    for (size_t u = 0; u < line.size(); ++u) {
-      const auto from = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin();
-      const auto to = std::upper_bound(points.points.begin(), points.points.end(), points.hi[u]) - points.points.begin();
-      out.sides[4 * size_t(line[u].tile - first) + line[u].side] = {uint32_t(out.pool.size()), uint32_t(to - from)};
-      for (auto p = from; p < to; ++p) {
-        PendingPoint point = resolved[p];
-        sideCoordinates(line[u], points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
-        out.pool.push_back(point);
-      }
-    }
+    while (j < a.innerKeys.size() && a.innerKeys[j].line == a.innerKeys[i].line) ++j;
+    resolveInnerLine(root, i, j, a);
     i = j;
   }
-  out.gridFirst.resize(last - first);
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
-    out.gridFirst[t - first] = uint32_t(out.locals.size());
+    gridLocal_[t] = uint32_t(a.locals.size()) - slice.localsFrom;
     const double s = tile.size();
     for (int j = 1; j < tile.rv; ++j) {
       for (int i = 1; i < tile.ru; ++i) {
-        out.locals.push_back({t, (double(tile.ix) + double(i) / tile.ru) * s, (double(tile.iy) + double(j) / tile.rv) * s, 0});
+        a.locals.push_back({t, (double(tile.ix) + double(i) / tile.ru) * s, (double(tile.iy) + double(j) / tile.rv) * s, 0});
       }
     }
   }
@@ -374,196 +348,275 @@ void Stitcher::stitchRoot(uint32_t root, RootStitch& out, RootScratch& scratch) 
     for (int c = 0; c < 4; ++c) {
       const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
       if (!(x > 0 && x < kRootScale && y > 0 && y < kRootScale)) continue;
-      VertexRequest& request = out.locals[std::lower_bound(inner.begin(), inner.end(), std::pair{x, y}) - inner.begin()];
+      const size_t id = std::lower_bound(a.inner.begin(), a.inner.end(), std::pair{x, y}) - a.inner.begin();
+      VertexRequest& request = a.locals[slice.localsFrom + id];
       request.tile = std::min(request.tile, t);
     }
   }
+  slice.localsCount = uint32_t(a.locals.size()) - slice.localsFrom;
 }
 
-// Base edges and spokes: each root's sides there joined with the other root's, and every
-// boundary corner named once.
-void Stitcher::joinBoundaries() {
-  struct CornerRef {
-    SeamPoint key;
-    uint32_t root, index;
-  };
-  std::vector<CornerRef> refs;
-  for (uint32_t r = 0; r < roots_.size(); ++r) {
-    for (uint32_t i = 0; i < roots_[r].corners.size(); ++i) refs.push_back({roots_[r].corners[i].key, r, i});
-  }
-  tbb::parallel_sort(refs.begin(), refs.end(), [this](const CornerRef& x, const CornerRef& y) {
-    if (!(x.key == y.key)) return x.key < y.key;
-    return roots_[x.root].corners[x.index].tile < roots_[y.root].corners[y.index].tile;
-  });
-  cornerIds_.resize(roots_.size());
-  for (uint32_t r = 0; r < roots_.size(); ++r) cornerIds_[r].resize(roots_[r].corners.size());
-  std::vector<SeamPoint> keys;
-  for (size_t i = 0; i < refs.size(); ++i) {
-    if (i == 0 || !(refs[i].key == refs[i - 1].key)) {
-      keys.push_back(refs[i].key);
-      const BoundaryCorner& c = roots_[refs[i].root].corners[refs[i].index];
-      seamVertices_.push_back({c.tile, c.u, c.v, 0});
-    }
-    cornerIds_[refs[i].root][refs[i].index] = uint32_t(keys.size() - 1);
-  }
-  // Boundary uses, line by line.
-  struct Seam {
-    BoundaryUse use;
-    uint32_t root;
-  };
-  std::vector<Seam> seams;
-  for (uint32_t r = 0; r < roots_.size(); ++r) {
-    for (const BoundaryUse& use : roots_[r].boundaryUses) seams.push_back({use, r});
-  }
-  tbb::parallel_sort(seams.begin(), seams.end(), [](const Seam& x, const Seam& y) {
-    if (!(x.use.line == y.use.line)) return x.use.line < y.use.line;
-    return x.use.use.tile < y.use.use.tile || (x.use.use.tile == y.use.use.tile && x.use.use.side < y.use.use.side);
-  });
-  // Lines, resolved on all cores; their own points numbered line by line afterwards.
-  std::vector<std::pair<size_t, size_t>> lines;  // seam ranges
-  for (size_t i = 0; i < seams.size();) {
-    size_t j = i;
-    while (j < seams.size() && seams[j].use.line == seams[i].use.line) ++j;
-    lines.push_back({i, j});
-    i = j;
-  }
-  struct Resolved {
-    LinePoints points;
-    std::vector<uint8_t> isEnd;
-    uint32_t ownPoints = 0, firstOwn = 0;
-    std::vector<uint32_t> useFrom, useTo;  // each use's range of points
-  };
-  std::vector<Resolved> resolved(lines.size());
-  tbb::parallel_for(size_t(0), lines.size(), [&](size_t l) {
-    Resolved& line = resolved[l];
-    std::vector<LineUse> uses;
-    for (size_t i = lines[l].first; i < lines[l].second; ++i) uses.push_back(seams[i].use.use);
-    resolveLine(uses.data(), uses.size(), line.points);
-    const std::vector<Int>& p = line.points.points;
-    line.isEnd.assign(p.size(), 0);
-    for (size_t u = 0; u < uses.size(); ++u) {
-      line.useFrom.push_back(uint32_t(std::lower_bound(p.begin(), p.end(), line.points.lo[u]) - p.begin()));
-      line.useTo.push_back(uint32_t(std::upper_bound(p.begin(), p.end(), line.points.hi[u]) - p.begin()));
-      line.isEnd[line.useFrom.back()] = line.isEnd[line.useTo.back() - 1] = 1;
-    }
-    for (uint8_t end : line.isEnd) line.ownPoints += end ? 0 : 1;
-  });
-  boundaryRange_.assign(4 * plan_.tiles.size(), {0, 0});
-  uint32_t poolSize = 0, nextVertex = uint32_t(seamVertices_.size());
-  for (size_t l = 0; l < lines.size(); ++l) {
-    resolved[l].firstOwn = nextVertex;
-    nextVertex += resolved[l].ownPoints;
-    for (size_t u = 0; u < resolved[l].useFrom.size(); ++u) {
-      const LineUse& use = seams[lines[l].first + u].use.use;
-      const uint32_t count = resolved[l].useTo[u] - resolved[l].useFrom[u];
-      boundaryRange_[4 * size_t(use.tile) + use.side] = {poolSize, count};
-      poolSize += count;
+// Inner keys [from, to) of the arena: one line inside the root.
+void Stitcher::resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a) {
+  const RootSlice& slice = slices_[root];
+  const int axis = a.innerKeys[from].axis();
+  const int64_t fixed = a.innerKeys[from].fixed();
+  std::vector<LineUse>& line = a.line;
+  line.clear();
+  for (size_t i = from; i < to; ++i) line.push_back(a.innerUses[a.innerKeys[i].use]);
+  LinePoints& points = a.points;
+  resolveLine(line.data(), line.size(), points);
+  // A point that ends a side is that side's tile corner (endOf: 2 · use + (1 at its high end)
+  // + 1; 0 for none).
+  a.endOf.assign(points.points.size(), 0);
+  for (size_t u = 0; u < line.size(); ++u) {
+    for (uint32_t high = 0; high < 2; ++high) {
+      const Int end = high ? points.hi[u] : points.lo[u];
+      a.endOf[std::lower_bound(points.points.begin(), points.points.end(), end) - points.points.begin()] =
+          uint32_t(2 * u + high + 1);
     }
   }
-  seamVertices_.resize(nextVertex);
-  boundaryPool_.resize(poolSize);
-  tbb::parallel_for(size_t(0), lines.size(), [&](size_t l) {
-    const Resolved& line = resolved[l];
-    const LinePoints& points = line.points;
-    const size_t uses = line.useFrom.size();
-    auto useOf = [&](size_t u) -> const LineUse& { return seams[lines[l].first + u].use.use; };
-    std::vector<uint32_t> ids(points.points.size());
-    LinePoints& mutablePoints = resolved[l].points;
-    const std::vector<uint32_t>& order = byStart(mutablePoints);
-    size_t cursor = 0;
-    uint32_t nextOwn = line.firstOwn;
-    for (size_t p = 0; p < points.points.size(); ++p) {
-      const Int value = points.points[p];
-      if (line.isEnd[p]) {
-        const SeamPoint key = pointOnLine(seams_, seams[lines[l].first].use.line, int64_t((value << kLineBits) / points.denominator));
-        ids[p] = uint32_t(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
-        continue;
+  a.resolved.assign(points.points.size(), {0, Ref::kLocal, 0, -1, 0, 0});
+  const std::vector<uint32_t>& order = byStart(points);
+  size_t cursor = 0;
+  for (size_t p = 0; p < points.points.size(); ++p) {
+    const Int value = points.points[p];
+    PendingPoint& point = a.resolved[p];
+    if (a.endOf[p] != 0) {
+      // The corner of the tile this side ends at (inner lines run with u or v).
+      const LineUse& use = line[(a.endOf[p] - 1) / 2];
+      const uint32_t t = use.tile;
+      const Tile& tile = plan_.tiles[t];
+      const int64_t along = at(tile.level, (axis == 1 ? tile.ix : tile.iy) + (a.endOf[p] - 1) % 2);
+      const int64_t x = axis == 1 ? along : fixed, y = axis == 1 ? fixed : along;
+      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) {
+        point.id = uint32_t(std::lower_bound(a.inner.begin(), a.inner.end(), std::pair{x, y}) - a.inner.begin());
+      } else {
+        point.kind = Ref::kSideEnd;
+        point.id = boundarySideEnd(plan_.tiles[t], t, x, y, point.end);
       }
-      const size_t owner = holder(points, order, cursor, value);
-      const LineUse& use = useOf(owner);
-      const Tile& tile = plan_.tiles[use.tile];
+      continue;
+    }
+    const size_t owner = holder(points, order, cursor, value);
+    point.id = uint32_t(a.locals.size()) - slice.localsFrom;
+    const double along = double(toLongDouble(value) / toLongDouble(points.denominator));
+    const double across = std::ldexp(double(fixed), -kRootBits);
+    a.locals.push_back({line[owner].tile, axis == 1 ? along : across, axis == 1 ? across : along, 0});
+  }
+  for (size_t u = 0; u < line.size(); ++u) {
+    const auto begin = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin();
+    const auto end = std::upper_bound(points.points.begin(), points.points.end(), points.hi[u]) - points.points.begin();
+    innerSide_[4 * size_t(line[u].tile) + line[u].side] = {uint32_t(a.pool.size()), uint32_t(end - begin)};
+    for (auto p = begin; p < end; ++p) {
+      PendingPoint point = a.resolved[p];
+      sideCoordinates(line[u], points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
+      a.pool.push_back(point);
+    }
+  }
+}
+
+// A boundary line's tile sides, root side by root side (ascending), each root's in tile order.
+void Stitcher::gatherUses(const SeamLines::Line& line, std::vector<LineUse>& uses) const {
+  uses.clear();
+  for (uint32_t i = line.firstSide; i < line.firstSide + line.sideCount; ++i) {
+    const uint32_t side = lines_.rootSides[i];
+    const RootSlice& slice = slices_[side / 4];
+    if (slice.arena == nullptr) continue;
+    const uint32_t k = side % 4;
+    uses.insert(uses.end(), slice.arena->boundaryUses.begin() + slice.usesFrom[k],
+                slice.arena->boundaryUses.begin() + slice.usesFrom[k + 1]);
+  }
+}
+
+// Node j of a line sits at t = j/2: in the line's units, j · denominator / 2.
+Int nodePosition(int j, Int denominator) { return j * denominator / 2; }
+
+// A boundary line's points (kept in the arena for writeBoundaryLine), how many each side gets,
+// and which tile names each node it has.
+void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
+  const SeamLines::Line& line = lines_.lines[l];
+  LineRecord& record = records_[l];
+  gatherUses(line, a.line);
+  if (a.line.empty()) return;
+  LinePoints& points = a.points;
+  resolveLine(a.line.data(), a.line.size(), points);
+  record.arena = &a;
+  record.denominator = points.denominator;
+  record.from = uint32_t(a.linePoints.size());
+  record.count = uint32_t(points.points.size());
+  a.linePoints.insert(a.linePoints.end(), points.points.begin(), points.points.end());
+  record.ownCount = record.count;
+  for (int j = 0; j < 3; ++j) {
+    if (line.node[j] == kNoSeamNode) continue;
+    const Int position = nodePosition(j, points.denominator);
+    if (std::binary_search(points.points.begin(), points.points.end(), position)) --record.ownCount;
+    for (size_t u = 0; u < a.line.size(); ++u) {
+      const LineUse& use = a.line[u];
+      if (points.lo[u] != position && points.hi[u] != position) continue;
+      if (use.tile >= record.claim[j].tile) continue;
       double along, back;
-      sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
-      const double size = tile.size();
-      const bool alongU = use.side == 0 || use.side == 2;
-      const double u = alongU ? (double(tile.ix) + along) * size : (double(tile.ix) + (use.side == 1)) * size;
-      const double v = alongU ? (double(tile.iy) + (use.side == 2)) * size : (double(tile.iy) + along) * size;
-      ids[p] = nextOwn++;
-      seamVertices_[ids[p]] = {use.tile, u, v, 0};
+      sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], position, along, back);
+      VertexRequest& claim = record.claim[j];
+      claim.tile = use.tile;
+      sidePoint(plan_.tiles[use.tile], use.side, along, claim.u, claim.v);
     }
-    for (size_t u = 0; u < uses; ++u) {
-      const Seam& seam = seams[lines[l].first + u];
-      const LineUse& use = seam.use.use;
-      PendingPoint* out = boundaryPool_.data() + boundaryRange_[4 * size_t(use.tile) + use.side].first;
-      const uint32_t from = line.useFrom[u], to = line.useTo[u];
-      for (uint32_t p = from; p < to; ++p) {
-        PendingPoint point{ids[p], Ref::kLinePoint, -1, 0, 0};
-        sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
-        if (p == from || p + 1 == to) {
-          // The side's own corner: its root decides the split (a wedge at a base vertex, the face
-          // inside a sharp edge).
-          const Tile& tile = plan_.tiles[use.tile];
-          const int k = use.side;
-          const bool high = point.at == 1;
-          const uint64_t ix = tile.ix + ((k == 1) || ((k == 0 || k == 2) && high) ? 1 : 0);
-          const uint64_t iy = tile.iy + ((k == 2) || ((k == 1 || k == 3) && high) ? 1 : 0);
-          const SurfaceRoot& root = tree_.roots[seam.root];
-          rootBoundaryPoint(seams_, root.baseFace, root.subFace, at(tile.level, ix), at(tile.level, iy), point.qualifier);
-        } else if (seam.use.sharp) {
-          point.qualifier = seam.use.face;
-        }
-        out[p - from] = point;
-      }
-    }
-  });
+  }
+  for (size_t u = 0; u < a.line.size(); ++u) {
+    const auto begin = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]);
+    const auto end = std::upper_bound(begin, points.points.end(), points.hi[u]);
+    boundarySide_[4 * size_t(a.line[u].tile) + a.line[u].side].count = uint32_t(end - begin);
+  }
 }
 
-// Final vertex ids: each root's own vertices root by root, then the seams' points.
+// Seam vertices: the nodes some tile has a corner at (in node order, each evaluated by the lowest
+// such tile), then every line's own points, line by line; and each boundary side's room.
+void Stitcher::numberSeamVertices() {
+  std::vector<VertexRequest> claims(lines_.nodeCount, {UINT32_MAX, 0, 0, 0});
+  for (size_t l = 0; l < records_.size(); ++l) {
+    for (int j = 0; j < 3; ++j) {
+      const uint32_t node = lines_.lines[l].node[j];
+      if (node != kNoSeamNode && records_[l].claim[j].tile < claims[node].tile) claims[node] = records_[l].claim[j];
+    }
+  }
+  nodeVertex_.assign(lines_.nodeCount, UINT32_MAX);
+  for (uint32_t node = 0; node < lines_.nodeCount; ++node) {
+    if (claims[node].tile == UINT32_MAX) continue;
+    nodeVertex_[node] = uint32_t(seamVertices_.size());
+    seamVertices_.push_back(claims[node]);
+  }
+  uint32_t next = uint32_t(seamVertices_.size());
+  for (LineRecord& record : records_) {
+    record.firstOwn = next;
+    next += record.ownCount;
+  }
+  seamVertices_.resize(next);
+  uint32_t offset = 0;
+  for (Slot& slot : boundarySide_) {
+    slot.offset = offset;
+    offset += slot.count;
+  }
+  boundaryPool_.resize(offset);
+}
+
+// How a boundary side's point splits its normal for the side's root: at a root corner as the
+// corner says, elsewhere by the face inside an infinitely sharp edge.
+int Stitcher::boundaryQualifier(const LineUse& use, const SeamLines::Line& line, bool end, double along) const {
+  const uint32_t root = tileRoot_[use.tile];
+  if (end) {
+    const Tile& tile = plan_.tiles[use.tile];
+    const int k = use.side;
+    const bool high = along == 1;
+    const int64_t x = at(tile.level, tile.ix + ((k == 1) || ((k == 0 || k == 2) && high) ? 1 : 0));
+    const int64_t y = at(tile.level, tile.iy + ((k == 2) || ((k == 1 || k == 3) && high) ? 1 : 0));
+    if ((x == 0 || x == kRootScale) && (y == 0 || y == kRootScale)) {
+      const int c = x == 0 ? (y == 0 ? 0 : 3) : (y == 0 ? 1 : 2);
+      return lines_.cornerQualifier[4 * size_t(root) + c];
+    }
+  }
+  return line.sharp ? tree_.roots[root].baseFace : -1;
+}
+
+// Every point of a boundary line named (a node's vertex or the line's own) and handed to the
+// sides on it, each side's points in increasing side coordinate.
+void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
+  const LineRecord& record = records_[l];
+  if (record.arena == nullptr) return;
+  const SeamLines::Line& line = lines_.lines[l];
+  std::vector<LineUse>& uses = a.line;
+  gatherUses(line, uses);
+  const Int* values = record.arena->linePoints.data() + record.from;
+  LinePoints& points = a.points;
+  points.lo.resize(uses.size()), points.hi.resize(uses.size()), points.cell.resize(uses.size());
+  for (size_t u = 0; u < uses.size(); ++u) {
+    const LineUse& use = uses[u];
+    points.cell[u] = quotient(record.denominator, Int(use.cells) << use.exp);
+    const Int p0 = use.a * points.cell[u], p1 = (use.a + use.sign * use.cells) * points.cell[u];
+    points.lo[u] = std::min(p0, p1), points.hi[u] = std::max(p0, p1);
+  }
+  std::vector<uint32_t>& ids = a.endOf;
+  ids.resize(record.count);
+  const std::vector<uint32_t>& order = byStart(points);
+  size_t cursor = 0;
+  uint32_t nextOwn = record.firstOwn;
+  for (uint32_t p = 0; p < record.count; ++p) {
+    const Int value = values[p];
+    int node = -1;
+    for (int j = 0; j < 3; ++j) {
+      if (line.node[j] != kNoSeamNode && value == nodePosition(j, record.denominator)) node = j;
+    }
+    if (node >= 0) {
+      ids[p] = nodeVertex_[line.node[node]];
+      continue;
+    }
+    const size_t owner = holder(points, order, cursor, value);
+    const LineUse& use = uses[owner];
+    double along, back;
+    sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
+    VertexRequest& request = seamVertices_[nextOwn];
+    request.tile = use.tile;
+    sidePoint(plan_.tiles[use.tile], use.side, along, request.u, request.v);
+    ids[p] = nextOwn++;
+  }
+  for (size_t u = 0; u < uses.size(); ++u) {
+    const LineUse& use = uses[u];
+    const Slot slot = boundarySide_[4 * size_t(use.tile) + use.side];
+    const uint32_t begin = uint32_t(std::lower_bound(values, values + record.count, points.lo[u]) - values);
+    for (uint32_t q = 0; q < slot.count; ++q) {
+      const uint32_t p = begin + q;
+      PendingPoint point{ids[p], Ref::kSeam, 0, -1, 0, 0};
+      sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], values[p], point.at, point.back);
+      point.qualifier = boundaryQualifier(use, line, q == 0 || q + 1 == slot.count, point.at);
+      // Lines run either way along a side: stored with the side's coordinate increasing.
+      boundaryPool_[slot.offset + (use.sign < 0 ? slot.count - 1 - q : q)] = point;
+    }
+  }
+}
+
+// Final vertex ids: each root's own vertices root by root, then the seam vertices.
 void Stitcher::assemble() {
-  localFirst_.resize(roots_.size());
+  localFirst_.resize(slices_.size());
   uint32_t next = 0;
-  for (uint32_t r = 0; r < roots_.size(); ++r) {
+  for (size_t r = 0; r < slices_.size(); ++r) {
     localFirst_[r] = next;
-    next += uint32_t(roots_[r].locals.size());
+    next += slices_[r].localsCount;
   }
   seamFirst_ = next;
   out_.vertices.resize(next + seamVertices_.size());
-  for (uint32_t r = 0; r < roots_.size(); ++r) {
-    std::copy(roots_[r].locals.begin(), roots_[r].locals.end(), out_.vertices.begin() + localFirst_[r]);
-  }
-  std::copy(seamVertices_.begin(), seamVertices_.end(), out_.vertices.begin() + seamFirst_);
-  for (uint32_t v = 0; v < out_.vertices.size(); ++v) out_.vertices[v].positionOf = v;
   const size_t tiles = plan_.tiles.size();
   out_.sideFirst.assign(4 * tiles + 1, 0);
   out_.gridFirst.resize(tiles);
-  for (uint32_t r = 0; r < roots_.size(); ++r) {
-    const uint32_t first = plan_.rootFirstTile[r];
-    for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
-      out_.sideFirst[4 * size_t(first) + k + 1] = sidePoints(r, k).second;
-    }
-    for (size_t t = 0; t < roots_[r].gridFirst.size(); ++t) out_.gridFirst[first + t] = localFirst_[r] + roots_[r].gridFirst[t];
+  for (size_t s = 0; s < 4 * tiles; ++s) {
+    out_.sideFirst[s + 1] = out_.sideFirst[s] + (innerSide_[s].count > 0 ? innerSide_[s].count : boundarySide_[s].count);
   }
-  std::partial_sum(out_.sideFirst.begin(), out_.sideFirst.end(), out_.sideFirst.begin());
   out_.sidePoints.resize(out_.sideFirst.back());
-  tbb::parallel_for(size_t(0), roots_.size(), [&](size_t r) {
-    const uint32_t first = plan_.rootFirstTile[r];
-    for (size_t k = 0; k < roots_[r].sides.size(); ++k) {
-      const size_t s = 4 * size_t(first) + k;
-      const auto [side, count] = sidePoints(uint32_t(r), k);
-      // Lines run either way along a side: stored with the side's coordinate increasing.
-      const bool reversed = count > 1 && side[0].at > side[count - 1].at;
-      SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
-      for (size_t q = 0; q < count; ++q) {
-        const size_t p = reversed ? count - 1 - q : q;
-        const PendingPoint& point = side[q];
-        uint32_t id = point.id;
-        if (point.kind == Ref::kLocal) id += localFirst_[r];
-        if (point.kind == Ref::kCorner) id = seamFirst_ + cornerIds_[r][point.id];
-        if (point.kind == Ref::kLinePoint) id += seamFirst_;
-        out[p] = {id, point.at, point.back, point.qualifier};
+  std::copy(seamVertices_.begin(), seamVertices_.end(), out_.vertices.begin() + seamFirst_);
+  tbb::parallel_for(size_t(0), slices_.size(), [&](size_t r) {
+    const RootSlice& slice = slices_[r];
+    if (slice.arena == nullptr) return;
+    std::copy_n(slice.arena->locals.begin() + slice.localsFrom, slice.localsCount, out_.vertices.begin() + localFirst_[r]);
+    for (uint32_t t = plan_.rootFirstTile[r]; t < plan_.rootFirstTile[r + 1]; ++t) {
+      out_.gridFirst[t] = localFirst_[r] + gridLocal_[t];
+      for (size_t s = 4 * size_t(t); s < 4 * size_t(t) + 4; ++s) {
+        const bool inside = innerSide_[s].count > 0;
+        const PendingPoint* side = inside ? slice.arena->pool.data() + innerSide_[s].offset : boundaryPool_.data() + boundarySide_[s].offset;
+        SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
+        for (uint32_t q = 0; q < out_.sideFirst[s + 1] - out_.sideFirst[s]; ++q) {
+          const PendingPoint& point = side[q];
+          SidePoint& result = out[q];
+          result = {point.id, point.at, point.back, point.qualifier};
+          if (point.kind == Ref::kLocal) result.vertex += localFirst_[r];
+          if (point.kind == Ref::kSeam) result.vertex += seamFirst_;
+          if (point.kind == Ref::kSideEnd) {
+            const Slot end = boundarySide_[point.id];
+            const PendingPoint& corner = boundaryPool_[end.offset + (point.end ? end.count - 1 : 0)];
+            result.vertex = seamFirst_ + corner.id;
+            result.qualifier = corner.qualifier;
+          }
+        }
       }
     }
   });
+  for (uint32_t v = 0; v < out_.vertices.size(); ++v) out_.vertices[v].positionOf = v;
 }
 
 // Across an infinitely sharp edge, and around a vertex that sharp edges cut into wedges, each
@@ -622,14 +675,33 @@ void Stitcher::splitNormals() {
 }
 
 Stitching Stitcher::run() {
-  roots_.resize(tree_.roots.size());
-  tbb::enumerable_thread_specific<RootScratch> scratch;
-  tbb::parallel_for(size_t(0), roots_.size(), [&](size_t r) {
-    if (checkpoint_ && r % 256 == 0) checkpoint_();
-    if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), roots_[r], scratch.local());
+  const size_t tiles = plan_.tiles.size(), roots = plan_.rootFirstTile.size() - 1;
+  tileRoot_.resize(tiles);
+  for (size_t r = 0; r < roots; ++r) {
+    std::fill(tileRoot_.begin() + plan_.rootFirstTile[r], tileRoot_.begin() + plan_.rootFirstTile[r + 1], uint32_t(r));
+  }
+  slices_.resize(roots);
+  innerSide_.assign(4 * tiles, {});
+  boundarySide_.assign(4 * tiles, {});
+  gridLocal_.resize(tiles);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots, 16), [&](const auto& range) {
+    if (checkpoint_) checkpoint_();
+    Arena& a = arenas_.local();
+    for (size_t r = range.begin(); r != range.end(); ++r) {
+      if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), a);
+    }
   });
-  joinBoundaries();
+  records_.resize(lines_.lines.size());
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), 32), [&](const auto& range) {
+    Arena& a = arenas_.local();
+    for (uint32_t l = range.begin(); l != range.end(); ++l) resolveBoundaryLine(l, a);
+  });
   if (checkpoint_) checkpoint_();
+  numberSeamVertices();
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), 32), [&](const auto& range) {
+    Arena& a = arenas_.local();
+    for (uint32_t l = range.begin(); l != range.end(); ++l) writeBoundaryLine(l, a);
+  });
   assemble();
   splitNormals();
   return std::move(out_);
@@ -637,9 +709,9 @@ Stitching Stitcher::run() {
 
 }  // namespace
 
-Stitching stitchTiles(const AdaptivePlan& plan, const SurfaceTree& tree, const SeamTopology& seams,
+Stitching stitchTiles(const AdaptivePlan& plan, const SurfaceTree& tree, const SeamLines& lines,
                       const std::function<void()>& checkpoint) {
-  return Stitcher(plan, tree, seams, checkpoint).run();
+  return Stitcher(plan, tree, lines, checkpoint).run();
 }
 
 }  // namespace tessera

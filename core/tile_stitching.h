@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/adaptive_plan.h"
-#include "core/seam_topology.h"
+#include "core/seam_lines.h"
 
 namespace tessera {
 
@@ -47,7 +47,7 @@ struct Stitching {
 };
 
 // The root each tile belongs to is found from plan.rootFirstTile.
-Stitching stitchTiles(const AdaptivePlan& plan, const SurfaceTree& tree, const SeamTopology& seams,
+Stitching stitchTiles(const AdaptivePlan& plan, const SurfaceTree& tree, const SeamLines& lines,
                       const std::function<void()>& checkpoint);
 
 }  // namespace tessera
