@@ -121,7 +121,7 @@ class Planner {
     bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
     float lo[3], hi[3];
     double pairWithBows() const { return pair + *std::max_element(bows, bows + 4); }
-    double size() const { return std::ldexp(1.0, -level); }
+    double size() const { return exp2i(-level); }
   };
   Candidate realCandidate(const NodeSquare& n) const;
   Candidate quadrantCandidate(const Candidate& parent, const BezierNet& parentNet, int q) const;
@@ -170,7 +170,7 @@ Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const Bez
   c.ix = 2 * parent.ix + uint64_t(q & 1), c.iy = 2 * parent.iy + uint64_t(q >> 1);
   c.below = true;
   c.net = quadrantNet(parentNet, q & 1, q >> 1);
-  c.m = netCurvature(c.net.data()).scaled(std::ldexp(1.0, 2 * c.level));
+  c.m = netCurvature(c.net.data()).scaled(exp2i(2 * c.level));
   c.standIn = 0;
   c.gm = c.m;
   c.pairKnown = false;

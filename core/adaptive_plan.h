@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/dyadic.h"
 #include "core/surface_evaluation.h"
 #include "core/surface_tree.h"
 #include "core/tessellation_options.h"
@@ -27,7 +28,7 @@ struct Tile {
   bool pendingPair = false;
   float sideBow[4] = {0, 0, 0, 0};
 
-  double size() const { return std::ldexp(1.0, -level); }
+  double size() const { return exp2i(-level); }
 };
 
 struct AdaptivePlan {

@@ -63,27 +63,39 @@ BezierNet bilinearNet(const Vec3d corners[4]) {
   return out;
 }
 
+namespace {
+
+// A cubic halved at 1/2: both halves' coefficients, the middle one shared (a, ab, abc, mid, bcd,
+// cd, d), as halveCurve computes them.
+void splitCubic(double a, double b, double c, double d, double out[7]) {
+  const double ab = (a + b) * 0.5, bc = (b + c) * 0.5, cd = (c + d) * 0.5;
+  const double abc = (ab + bc) * 0.5, bcd = (bc + cd) * 0.5;
+  out[0] = a, out[1] = ab, out[2] = abc, out[3] = (abc + bcd) * 0.5, out[4] = bcd, out[5] = cd, out[6] = d;
+}
+
+}  // namespace
+
 double splitNetDistance(const BezierNet& a, const BezierNet& b) {
-  // De Casteljau at 1/2 in both directions lays the four quadrant nets out on one 7 × 7 grid.
-  Vec3d rows[4][7], grid[7][7];
-  for (int r = 0; r < 4; ++r) {
-    Vec3d p[4];
-    for (int c = 0; c < 4; ++c) p[c] = a[4 * r + c] - b[4 * r + c];
-    halveCurve(p, 1, false, rows[r], 1);
-    halveCurve(p, 1, true, rows[r] + 3, 1);
+  // De Casteljau at 1/2 in both directions lays the four quadrant nets out on one 7 × 7 grid,
+  // one coordinate at a time (the squared lengths summed in x, y, z order, as dot() does).
+  double d2[7][7] = {};
+  for (int axis = 0; axis < 3; ++axis) {
+    double rows[4][7];
+    for (int r = 0; r < 4; ++r) {
+      splitCubic(a[4 * r][axis] - b[4 * r][axis], a[4 * r + 1][axis] - b[4 * r + 1][axis],
+                 a[4 * r + 2][axis] - b[4 * r + 2][axis], a[4 * r + 3][axis] - b[4 * r + 3][axis], rows[r]);
+    }
+    for (int c = 0; c < 7; ++c) {
+      double column[7];
+      splitCubic(rows[0][c], rows[1][c], rows[2][c], rows[3][c], column);
+      for (int r = 0; r < 7; ++r) d2[r][c] += column[r] * column[r];
+    }
   }
-  for (int c = 0; c < 7; ++c) {
-    const Vec3d column[4] = {rows[0][c], rows[1][c], rows[2][c], rows[3][c]};
-    Vec3d lower[4], upper[4];
-    halveCurve(column, 1, false, lower, 1);
-    halveCurve(column, 1, true, upper, 1);
-    for (int r = 0; r < 4; ++r) grid[r][c] = lower[r], grid[3 + r][c] = upper[r];
+  double worst = 0;
+  for (const auto& row : d2) {
+    for (double value : row) worst = std::max(worst, value);
   }
-  double d2 = 0;
-  for (const auto& row : grid) {
-    for (const Vec3d& p : row) d2 = std::max(d2, dot(p, p));
-  }
-  return std::sqrt(d2);
+  return std::sqrt(worst);
 }
 
 double sideChordDistance(const BezierNet& net, int side, const Vec3d& from, const Vec3d& to) {

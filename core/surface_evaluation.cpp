@@ -10,14 +10,6 @@ namespace tessera {
 
 namespace {
 
-// The domain of a FAS leaf: patch k of its sector at its level.
-PatchDomain fasDomain(const RingSet& rings, const FasLeaf& leaf) {
-  int x0, y0;
-  sectorPatchOrigin(leaf.patch, x0, y0);
-  const double size = std::ldexp(1.0, -leaf.level);
-  return rings.sectorDomains[rings.sectorOffsets[leaf.ring] + leaf.sector].restrict(x0 * size, y0 * size, size);
-}
-
 // A FAS leaf's B-spline net relative to its ring's centre (deep levels are tiny next to the
 // model: kept relative, they keep their precision).
 void gatherFasNet(const RingSet& rings, const FasLeaf& leaf, const float* refined, Vec3d net[16]) {
@@ -51,16 +43,16 @@ Vec3d unit(Vec3d n) {
 
 BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
   const SurfaceNode& node = tree.nodes[index];
+  const Orientation orientation = Orientation::fromCode(node.orientation);
   if (node.kind == NodeKind::kRegularLeaf) {
     Vec3d net[16];
     for (int k = 0; k < 16; ++k) net[k] = Vec3d(patches.regular.bspline[node.payload][k]);
-    return bsplineToRootBezier(net, rootSquareOf(patches.regular.domains[node.payload]).orientation, Vec3d());
+    return bsplineToRootBezier(net, orientation, Vec3d());
   }
   const FasLeaf& leaf = tree.fasLeaves[node.payload];
   Vec3d net[16];
   gatherFasNet(patches.rings, leaf, tree.refinedAtLevel(patches.rings, leaf.ring, leaf.level), net);
-  return bsplineToRootBezier(net, rootSquareOf(fasDomain(patches.rings, leaf)).orientation,
-                             Vec3d(patches.rings.centers[leaf.ring]));
+  return bsplineToRootBezier(net, orientation, Vec3d(patches.rings.centers[leaf.ring]));
 }
 
 const Vec3d* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
@@ -85,13 +77,13 @@ SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, d
     p = evaluateBezier(g, x, y);
     offset = Vec3d(bottom.center);
   } else if (node.kind == NodeKind::kRegularLeaf) {
-    orientation = rootSquareOf(patches_.regular.domains[node.payload]).orientation;
+    orientation = Orientation::fromCode(node.orientation);
     double s, t;
     pieceParameters(orientation, x, y, s, t);
     p = evaluateBspline(patches_.regular.bspline[node.payload].data(), s, t);
   } else {
     const FasLeaf& leaf = tree_.fasLeaves[node.payload];
-    orientation = rootSquareOf(fasDomain(patches_.rings, leaf)).orientation;
+    orientation = Orientation::fromCode(node.orientation);
     double s, t;
     pieceParameters(orientation, x, y, s, t);
     p = evaluateBspline(fasNet(node.payload), s, t);
@@ -109,7 +101,8 @@ SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, d
 
 SurfaceSample SurfaceEvaluator::evaluate(NodeSquare at, double u, double v) {
   for (;;) {
-    const double x = std::ldexp(u, at.level) - double(at.ix), y = std::ldexp(v, at.level) - double(at.iy);
+    const double scale = exp2i(at.level);
+    const double x = u * scale - double(at.ix), y = v * scale - double(at.iy);
     if (tree_.nodes[at.node].isLeaf()) return evaluateLeaf(at, std::clamp(x, 0.0, 1.0), std::clamp(y, 0.0, 1.0));
     at = at.child(tree_, (y >= 0.5 ? 2 : 0) + (x >= 0.5 ? 1 : 0));
   }

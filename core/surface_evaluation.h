@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/bezier_net.h"
+#include "core/dyadic.h"
 #include "core/surface_tree.h"
 
 namespace tessera {
@@ -21,7 +22,7 @@ struct NodeSquare {
   NodeSquare child(const SurfaceTree& tree, int q) const {
     return {tree.nodes[node].firstChild + uint32_t(q), level + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1)};
   }
-  double size() const { return std::ldexp(1.0, -level); }
+  double size() const { return exp2i(-level); }
 };
 
 // The Bézier net, in root orientation, of a leaf (regular or FAS).

@@ -195,6 +195,7 @@ void TreeBuilder::fill(uint32_t slot, int level, uint64_t ix, uint64_t iy, std::
     if (item.sector) return fillChain(slot, item.index, item.ringSector, 0);
     tree_.nodes[slot].kind = NodeKind::kRegularLeaf;
     tree_.nodes[slot].payload = item.index;
+    tree_.nodes[slot].orientation = rootSquareOf(patches_.regular.domains[item.index]).orientation.code();
     return;
   }
   std::vector<Item> quadrants[4];
@@ -239,6 +240,7 @@ void TreeBuilder::fillChain(uint32_t slot, uint32_t ring, int sector, int chainL
     SurfaceNode& leaf = tree_.nodes[first + q];
     leaf.kind = NodeKind::kFasLeaf;
     leaf.payload = uint32_t(tree_.fasLeaves.size());
+    leaf.orientation = sq.orientation.code();
     tree_.fasLeaves.push_back({ring, uint16_t(sector), uint8_t(chainLevel + 1), uint8_t(k)});
   }
 }

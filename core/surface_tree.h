@@ -48,6 +48,7 @@ struct SurfaceNode {
   uint32_t payload = 0;  // regular patch, FAS leaf or (EV bottoms) EV record
   NodeKind kind = NodeKind::kInternal;
   uint8_t evCorners = 0;  // bit c: corner c is an extraordinary vertex inside this node
+  uint8_t orientation = 0;  // leaves: Orientation::code() of the piece's (s, t) frame in the root
 
   Curvature bound() const { return {curvature[0], curvature[1], curvature[2]}; }
   Curvature standInCurvatureBound() const {

@@ -40,6 +40,7 @@ struct LineUse {
   bool rigid = false;
   uint32_t tile = 0;
   uint8_t side = 0;
+  int64_t t0 = 0, t1 = 0;  // on a base edge or spoke: its span there, scale kLineScale
 };
 
 // A line's points in units of 1/denominator, and each use's span and cell there.
@@ -48,7 +49,7 @@ struct LinePoints {
   std::vector<Int> points;
   std::vector<Int> lo, hi, cell;  // per use
   std::vector<uint32_t> order;    // the uses by start (byStart), and room for resolveLine
-  std::vector<Int> added;
+  std::vector<Int> merged;
 };
 
 // A line's points: every side's ends, rigid sides' own points, then for each side, densest
@@ -64,43 +65,52 @@ void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
   out.denominator = rates << exp;
   out.lo.resize(count), out.hi.resize(count), out.cell.resize(count);
   out.points.clear();
+  bool sameSpan = true;
+  size_t densest = 0;
   for (size_t i = 0; i < count; ++i) {
     const LineUse& use = uses[i];
     out.cell[i] = quotient(out.denominator, Int(use.cells) << use.exp);
     const Int p0 = use.a * out.cell[i], p1 = (use.a + use.sign * use.cells) * out.cell[i];
     out.lo[i] = std::min(p0, p1), out.hi[i] = std::max(p0, p1);
+    sameSpan &= !use.rigid && out.lo[i] == out.lo[0] && out.hi[i] == out.hi[0];
+    if (out.cell[i] < out.cell[densest]) densest = i;
+  }
+  if (sameSpan) {
+    // Sides over one stretch (the common seam, or a boundary of the surface): the densest one's
+    // points, which is what the rule below comes to.
+    for (int k = 0; k <= uses[densest].cells; ++k) out.points.push_back(out.lo[0] + k * out.cell[densest]);
+    return;
+  }
+  for (size_t i = 0; i < count; ++i) {
     out.points.push_back(out.lo[i]);
     out.points.push_back(out.hi[i]);
-    for (int k = 1; use.rigid && k < use.cells; ++k) out.points.push_back(out.lo[i] + k * out.cell[i]);
+    for (int k = 1; uses[i].rigid && k < uses[i].cells; ++k) out.points.push_back(out.lo[i] + k * out.cell[i]);
   }
   auto normalize = [&out] {
     std::sort(out.points.begin(), out.points.end());
     out.points.erase(std::unique(out.points.begin(), out.points.end()), out.points.end());
   };
   normalize();
-  if (count == 1 && !uses[0].rigid) {
-    // One side (a boundary of the surface): its own points.
-    out.points.clear();
-    for (int k = 0; k <= uses[0].cells; ++k) out.points.push_back(out.lo[0] + k * out.cell[0]);
-    return;
-  }
   std::vector<uint32_t>& order = out.order;
   order.resize(count);
   std::iota(order.begin(), order.end(), 0u);
   std::stable_sort(order.begin(), order.end(), [&out](uint32_t x, uint32_t y) { return out.cell[x] < out.cell[y]; });
-  std::vector<Int>& added = out.added;
+  std::vector<Int>& merged = out.merged;
   for (uint32_t i : order) {
-    added.clear();
-    auto p = std::lower_bound(out.points.begin(), out.points.end(), out.lo[i]);
-    for (; p + 1 != out.points.end() && *(p + 1) <= out.hi[i]; ++p) {
-      if (*(p + 1) - *p <= out.cell[i]) continue;
-      for (Int own = out.lo[i] + (quotient(*p - out.lo[i], out.cell[i]) + 1) * out.cell[i]; own < *(p + 1); own += out.cell[i]) {
-        added.push_back(own);
-      }
+    const Int lo = out.lo[i], hi = out.hi[i], cell = out.cell[i];
+    const auto first = std::lower_bound(out.points.begin(), out.points.end(), lo);
+    auto p = first;
+    while (p + 1 != out.points.end() && *(p + 1) <= hi && *(p + 1) - *p <= cell) ++p;
+    if (p + 1 == out.points.end() || *(p + 1) > hi) continue;  // no gap wider than its cell
+    // The points so far with its own points in every wide gap, still in order.
+    merged.assign(out.points.begin(), first);
+    for (p = first; p + 1 != out.points.end() && *(p + 1) <= hi; ++p) {
+      merged.push_back(*p);
+      if (*(p + 1) - *p <= cell) continue;
+      for (Int own = lo + (quotient(*p - lo, cell) + 1) * cell; own < *(p + 1); own += cell) merged.push_back(own);
     }
-    if (added.empty()) continue;
-    out.points.insert(out.points.end(), added.begin(), added.end());
-    normalize();
+    merged.insert(merged.end(), p, out.points.end());
+    out.points.swap(merged);
   }
 }
 
@@ -188,6 +198,7 @@ struct Slot {
 // the vertex request of the lowest tile with a corner there.
 struct LineRecord {
   const Arena* arena = nullptr;
+  int uniformCells = 0;  // > 0: every side spans the whole line, whose points are this many cells
   Int denominator = 1;
   uint32_t from = 0, count = 0, ownCount = 0, firstOwn = 0;
   VertexRequest claim[3] = {{UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}};
@@ -247,6 +258,8 @@ class Stitcher {
   void resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a);
   void gatherUses(const SeamLines::Line& line, std::vector<LineUse>& uses) const;
   void resolveBoundaryLine(uint32_t l, Arena& a);
+  bool resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses);
+  void writeUniformLine(const SeamLines::Line& line, const LineRecord& record, const std::vector<LineUse>& uses);
   void numberSeamVertices();
   void writeBoundaryLine(uint32_t l, Arena& a);
   int boundaryQualifier(const LineUse& use, const SeamLines::Line& line, bool end, double along) const;
@@ -291,7 +304,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   std::sort(a.inner.begin(), a.inner.end());
   a.inner.erase(std::unique(a.inner.begin(), a.inner.end()), a.inner.end());
   for (const auto& [x, y] : a.inner) {
-    a.locals.push_back({UINT32_MAX, std::ldexp(double(x), -kRootBits), std::ldexp(double(y), -kRootBits), 0});
+    a.locals.push_back({UINT32_MAX, double(x) * exp2i(-kRootBits), double(y) * exp2i(-kRootBits), 0});
   }
   // Sides on the root's boundary, root side by root side, placed on their line.
   for (int k = 0; k < 4; ++k) {
@@ -306,6 +319,10 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
       use.a = (Int(line.origin) * use.cells << (tile.level + d)) + line.sign * Int(along) * use.cells;
       use.sign = line.sign;
       use.exp = tile.level + d;
+      const int64_t origin = line.origin ? kLineScale : 0, scale = line.halves == 1 ? 2 : 1;
+      use.t0 = origin + line.sign * scale * at(tile.level, along);
+      use.t1 = origin + line.sign * scale * at(tile.level, along + 1);
+      if (use.t1 < use.t0) std::swap(use.t0, use.t1);
       a.boundaryUses.push_back(use);
     }
   }
@@ -400,7 +417,7 @@ void Stitcher::resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a)
     const size_t owner = holder(points, order, cursor, value);
     point.id = uint32_t(a.locals.size()) - slice.localsFrom;
     const double along = double(toLongDouble(value) / toLongDouble(points.denominator));
-    const double across = std::ldexp(double(fixed), -kRootBits);
+    const double across = double(fixed) * exp2i(-kRootBits);
     a.locals.push_back({line[owner].tile, axis == 1 ? along : across, axis == 1 ? across : along, 0});
   }
   for (size_t u = 0; u < line.size(); ++u) {
@@ -438,6 +455,7 @@ void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
   LineRecord& record = records_[l];
   gatherUses(line, a.line);
   if (a.line.empty()) return;
+  if (resolveUniformLine(l, a.line)) return;
   LinePoints& points = a.points;
   resolveLine(a.line.data(), a.line.size(), points);
   record.arena = &a;
@@ -468,21 +486,52 @@ void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
   }
 }
 
+// The common seam: every side on the line spans all of it (no rigid strip side), so its points
+// are the densest side's, k/cells for k = 0..cells (resolveLine's rule comes to that), the ends
+// are its nodes and each end is named by the lowest tile. Returns false for any other line.
+bool Stitcher::resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses) {
+  int cells = 0;
+  uint32_t lowest = 0;
+  for (uint32_t u = 0; u < uses.size(); ++u) {
+    const LineUse& use = uses[u];
+    if (use.rigid || use.t0 != 0 || use.t1 != kLineScale) return false;
+    cells = std::max(cells, use.cells);
+    if (use.tile < uses[lowest].tile) lowest = u;
+  }
+  LineRecord& record = records_[l];
+  record.uniformCells = cells;
+  record.count = uint32_t(cells) + 1;
+  record.ownCount = uint32_t(cells) - 1;
+  const LineUse& use = uses[lowest];
+  for (int j = 0; j <= 2; j += 2) {
+    // Node j at t = j/2: the side's coordinate there is 0 or 1, as the side runs along the line.
+    const double along = (j == 0) == (use.sign > 0) ? 0 : 1;
+    VertexRequest& claim = record.claim[j];
+    claim.tile = use.tile;
+    sidePoint(plan_.tiles[use.tile], use.side, along, claim.u, claim.v);
+  }
+  for (const LineUse& each : uses) boundarySide_[4 * size_t(each.tile) + each.side].count = record.count;
+  return true;
+}
+
 // Seam vertices: the nodes some tile has a corner at (in node order, each evaluated by the lowest
 // such tile), then every line's own points, line by line; and each boundary side's room.
 void Stitcher::numberSeamVertices() {
-  std::vector<VertexRequest> claims(lines_.nodeCount, {UINT32_MAX, 0, 0, 0});
+  // Per node the lowest claim as (tile, 3 · line + j), packed to compare in one step.
+  std::vector<uint64_t> claims(lines_.nodeCount, UINT64_MAX);
   for (size_t l = 0; l < records_.size(); ++l) {
     for (int j = 0; j < 3; ++j) {
       const uint32_t node = lines_.lines[l].node[j];
-      if (node != kNoSeamNode && records_[l].claim[j].tile < claims[node].tile) claims[node] = records_[l].claim[j];
+      if (node == kNoSeamNode || records_[l].claim[j].tile == UINT32_MAX) continue;
+      claims[node] = std::min(claims[node], uint64_t(records_[l].claim[j].tile) << 32 | (3 * l + j));
     }
   }
   nodeVertex_.assign(lines_.nodeCount, UINT32_MAX);
   for (uint32_t node = 0; node < lines_.nodeCount; ++node) {
-    if (claims[node].tile == UINT32_MAX) continue;
+    if (claims[node] == UINT64_MAX) continue;
+    const uint32_t lineNode = uint32_t(claims[node] & UINT32_MAX);
     nodeVertex_[node] = uint32_t(seamVertices_.size());
-    seamVertices_.push_back(claims[node]);
+    seamVertices_.push_back(records_[lineNode / 3].claim[lineNode % 3]);
   }
   uint32_t next = uint32_t(seamVertices_.size());
   for (LineRecord& record : records_) {
@@ -520,9 +569,13 @@ int Stitcher::boundaryQualifier(const LineUse& use, const SeamLines::Line& line,
 // sides on it, each side's points in increasing side coordinate.
 void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
   const LineRecord& record = records_[l];
-  if (record.arena == nullptr) return;
   const SeamLines::Line& line = lines_.lines[l];
   std::vector<LineUse>& uses = a.line;
+  if (record.uniformCells > 0) {
+    gatherUses(line, uses);
+    return writeUniformLine(line, record, uses);
+  }
+  if (record.arena == nullptr) return;
   gatherUses(line, uses);
   const Int* values = record.arena->linePoints.data() + record.from;
   LinePoints& points = a.points;
@@ -538,12 +591,11 @@ void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
   const std::vector<uint32_t>& order = byStart(points);
   size_t cursor = 0;
   uint32_t nextOwn = record.firstOwn;
+  Int nodeAt[3];
+  for (int j = 0; j < 3; ++j) nodeAt[j] = line.node[j] == kNoSeamNode ? Int(-1) : nodePosition(j, record.denominator);
   for (uint32_t p = 0; p < record.count; ++p) {
     const Int value = values[p];
-    int node = -1;
-    for (int j = 0; j < 3; ++j) {
-      if (line.node[j] != kNoSeamNode && value == nodePosition(j, record.denominator)) node = j;
-    }
+    const int node = value == nodeAt[0] ? 0 : value == nodeAt[1] ? 1 : value == nodeAt[2] ? 2 : -1;
     if (node >= 0) {
       ids[p] = nodeVertex_[line.node[node]];
       continue;
@@ -568,6 +620,31 @@ void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
       point.qualifier = boundaryQualifier(use, line, q == 0 || q + 1 == slot.count, point.at);
       // Lines run either way along a side: stored with the side's coordinate increasing.
       boundaryPool_[slot.offset + (use.sign < 0 ? slot.count - 1 - q : q)] = point;
+    }
+  }
+}
+
+// A uniform line (resolveUniformLine): point k at t = k/cells is node 0, the line's own point
+// k − 1, or node 2; the first side on the line evaluates the own points.
+void Stitcher::writeUniformLine(const SeamLines::Line& line, const LineRecord& record, const std::vector<LineUse>& uses) {
+  const int cells = record.uniformCells;
+  auto idOf = [&](int k) {
+    return k == 0 ? nodeVertex_[line.node[0]] : k == cells ? nodeVertex_[line.node[2]] : record.firstOwn + uint32_t(k - 1);
+  };
+  const LineUse& owner = uses[0];
+  for (int k = 1; k < cells; ++k) {
+    const double along = double(owner.sign > 0 ? k : cells - k) / cells;
+    VertexRequest& request = seamVertices_[record.firstOwn + uint32_t(k - 1)];
+    request.tile = owner.tile;
+    sidePoint(plan_.tiles[owner.tile], owner.side, along, request.u, request.v);
+  }
+  for (const LineUse& use : uses) {
+    PendingPoint* out = boundaryPool_.data() + boundarySide_[4 * size_t(use.tile) + use.side].offset;
+    for (int q = 0; q <= cells; ++q) {
+      // Point q along the side is point k along the line.
+      const int k = use.sign > 0 ? q : cells - q;
+      const double at = double(q) / cells, back = double(cells - q) / cells;
+      out[q] = {idOf(k), Ref::kSeam, 0, boundaryQualifier(use, line, q == 0 || q == cells, at), at, back};
     }
   }
 }
