@@ -241,8 +241,8 @@ TEST(LimitDistanceTest, NgonTrianglesAcrossSubFacesAreProjectedIntoTheRightSubFa
   options.spatialSeeds = 1;
   int straddling = 0;
   for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-    const float* uv = &mesh.cornerUv[6 * t];
-    if (*std::max_element(uv, uv + 6) <= 1.0f) continue;
+    const double* uv = &mesh.cornerUv[6 * t];
+    if (*std::max_element(uv, uv + 6) <= 1.0) continue;
     ++straddling;
     testing::TriangleMeshView alone = mesh.view();
     alone.indices = alone.indices.subspan(3 * t, 3);

@@ -261,6 +261,11 @@ TriangleMeshView viewOf(const TriangleMesh& mesh) {
     view.vertexSubFace = mesh.vertexSubFace;
     view.vertexUv = mesh.vertexUv;
   }
+  if (!mesh.triangleFace.empty()) {
+    view.triangleFace = mesh.triangleFace;
+    view.triangleSubFace = mesh.triangleSubFace;
+    view.cornerUv = mesh.triangleST;
+  }
   return view;
 }
 

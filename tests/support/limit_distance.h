@@ -38,12 +38,13 @@ struct TriangleMeshView {
   // that domain (may lie outside [0,1]^2; samples are clamped), for meshes whose triangles meet
   // at vertices of several domains (the border of a face's tessellation).
   std::span<const int> triangleFace, triangleSubFace;
-  std::span<const float> cornerUv;  // six per triangle
+  std::span<const double> cornerUv;  // six per triangle
 
   size_t triangleCount() const { return indices.size() / 3; }
 };
 
-// The positions, indices and per-vertex parameters of a core TriangleMesh.
+// The positions, indices and parameters of a core TriangleMesh: per triangle when it recorded
+// them (TessellationOptions::recordParameters), else per vertex.
 TriangleMeshView viewOf(const TriangleMesh& mesh);
 
 struct LimitDistanceOptions {

@@ -115,14 +115,14 @@ uint32_t pointId(const Far::TopologyLevel& level, const Numbering& n, const Face
 
 // (u, v) of a point of sub-face `from` in the chart of sub-face `to` of the same n-gon, unfolded
 // as a quad's neighbouring sub-faces would be; false when the two are not neighbours.
-bool unfold(int size, int from, int to, double s, double t, float out[2]) {
+bool unfold(int size, int from, int to, double s, double t, double out[2]) {
   if (s == 1 && t == 1) from = to;  // the face centre is (1, 1) in every sub-face
   if (from == to) {
-    out[0] = float(s), out[1] = float(t);
+    out[0] = s, out[1] = t;
   } else if (from == (to + 1) % size) {
-    out[0] = float(2 - t), out[1] = float(s);
+    out[0] = 2 - t, out[1] = s;
   } else if (to == (from + 1) % size) {
-    out[0] = float(t), out[1] = float(2 - s);
+    out[0] = t, out[1] = 2 - s;
   } else {
     return false;
   }
@@ -130,18 +130,18 @@ bool unfold(int size, int from, int to, double s, double t, float out[2]) {
 }
 
 // The sub-face of a triangle of an n-gon: the corner sub-face into which most corners unfold.
-void triangleDomain(const FacePattern& p, const int corner[3], int& subFace, float uv[6]) {
+void triangleDomain(const FacePattern& p, const int corner[3], int& subFace, double uv[6]) {
   int bestCount = -1;
   for (int candidate = 0; candidate < 3; ++candidate) {
     const int k = p.subFace[corner[candidate]];
-    float trial[6];
+    double trial[6];
     int count = 0;
     for (int c = 0; c < 3; ++c) {
       const int i = corner[c];
       if (unfold(p.size, p.subFace[i], k, p.subUv[2 * i], p.subUv[2 * i + 1], trial + 2 * c)) {
         ++count;
       } else {
-        trial[2 * c] = trial[2 * c + 1] = 1.0f;  // not a neighbour: the face centre
+        trial[2 * c] = trial[2 * c + 1] = 1.0;  // not a neighbour: the face centre
       }
     }
     if (count > bestCount) bestCount = count, subFace = k, std::copy(trial, trial + 6, uv);
@@ -165,10 +165,10 @@ void tessellateFace(const LimitSurface& surface, const FacePattern& p, const Num
     const int* corner = &p.facets[3 * t];
     for (int c = 0; c < 3; ++c) out.indices[3 * global + c] = ids[corner[c]];
     out.triangleFace[global] = f;
-    float* uv = &out.cornerUv[6 * global];
+    double* uv = &out.cornerUv[6 * global];
     if (p.size == 4) {
       out.triangleSubFace[global] = -1;
-      for (int k = 0; k < 6; ++k) uv[k] = float(p.coords[2 * corner[k / 2] + k % 2]);
+      for (int k = 0; k < 6; ++k) uv[k] = p.coords[2 * corner[k / 2] + k % 2];
     } else {
       triangleDomain(p, corner, out.triangleSubFace[global], uv);
     }

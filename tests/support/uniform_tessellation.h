@@ -28,7 +28,7 @@ struct UniformTessellation {
   std::vector<Vec3> positions;
   std::vector<uint32_t> indices;  // three per triangle, counter-clockwise as the control faces
   std::vector<int> triangleFace, triangleSubFace;
-  std::vector<float> cornerUv;  // six per triangle
+  std::vector<double> cornerUv;  // six per triangle
 
   size_t triangleCount() const { return indices.size() / 3; }
   TriangleMeshView view() const;

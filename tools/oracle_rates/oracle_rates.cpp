@@ -196,8 +196,9 @@ void writeHeader(std::ostream& out, const std::string& command, int threads) {
          "barycentric\n"
          "# samples per triangle projected onto the limit surface, limit->mesh from an S x S grid "
          "per face domain,\n"
-         "# S = max(16, 2R). Reference and tessellation positions: Bfr, approximation levels 6/6 "
-         "(Far for interior\n"
+         "# S = max(16, 2R). Reference and tessellation positions: Bfr, approximation levels "
+      << LimitSurface::kApproxLevel << "/" << LimitSurface::kApproxLevel
+      << " (Far for interior\n"
          "# valence 2). Search: R = 1, 2, 4, ... then bisection, assuming the error is monotonic "
          "in R.\n"
          "# *_rel columns are distances divided by the control mesh's bounding-box diagonal.\n";
