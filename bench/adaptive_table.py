@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""Turns tessera-bench's BM_TessGlb JSON into the tables of bench/ADAPTIVE-RESULTS.md.
+
+    build/bench/tessera-bench --benchmark_filter=BM_TessGlb --benchmark_repetitions=3 \\
+        --benchmark_report_aggregates_only=true --benchmark_out=glb.json --benchmark_out_format=json
+    python3 bench/adaptive_table.py glb.json [--measured other.json] > table.md
+
+Each case pairs BM_TessGlb_Tessera/<model>/<eps> with BM_TessGlb_OsdBfrOracle/<model>/<eps>
+(medians when the run has repetitions). --measured takes measured_over_eps from another run of
+the same binary (the measurement is not timed, so it can come from a run with less repetition).
+Ratios are Tessera over the oracle; the summed row divides the sums. Cases over the issue's
+per-case limits (triangles 1.5x, time 2x) are marked.
+"""
+import argparse
+import json
+import sys
+
+TRIANGLE_LIMIT = 1.5
+TIME_LIMIT = 2.0
+
+
+def load(path):
+    with open(path) as f:
+        data = json.load(f)
+    rows = {}
+    for b in data["benchmarks"]:
+        if b.get("run_type") == "aggregate" and b.get("aggregate_name") != "median":
+            continue
+        name = b["run_name"] if "run_name" in b else b["name"]
+        parts = name.split("/")
+        if len(parts) < 3 or not parts[0].startswith("BM_TessGlb_"):
+            continue
+        kind, model, eps = parts[0][len("BM_TessGlb_"):], parts[1], parts[2]
+        rows[(kind, model, eps)] = b
+    return data.get("context", {}), rows
+
+
+def milliseconds(b):
+    scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b.get("time_unit", "ns")]
+    return b["real_time"] * scale
+
+
+def mark(ratio, limit):
+    return f"**{ratio:.2f}**" if ratio > limit else f"{ratio:.2f}"
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("json")
+    parser.add_argument("--measured", help="a run whose measured_over_eps to use")
+    args = parser.parse_args()
+    context, rows = load(args.json)
+    measured = load(args.measured)[1] if args.measured else rows
+    cases = []
+    for (kind, model, eps) in rows:
+        if kind == "Tessera" and ("OsdBfrOracle", model, eps) in rows:
+            cases.append((model, eps))
+    order = []
+    for (kind, model, eps) in rows:
+        if model not in order:
+            order.append(model)
+    cases.sort(key=lambda c: (order.index(c[0]), -float(c[1])))
+
+    print(f"Machine: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs at "
+          f"{context.get('mhz_per_cpu', '?')} MHz; run {context.get('date', '?')}.\n")
+    print("| model | ε | Tessera triangles | oracle rate | oracle triangles | triangles ratio | "
+          "Tessera ms | Bfr ms | time ratio | measured / ε | bound / ε | others_cpu |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    sums = [0.0, 0.0, 0.0, 0.0]
+    over = []
+    measures = []
+    for model, eps in cases:
+        t = rows[("Tessera", model, eps)]
+        o = rows[("OsdBfrOracle", model, eps)]
+        m = measured.get(("Tessera", model, eps), t)
+        tri, otri = t["triangles"], o["triangles"]
+        ms, oms = milliseconds(t), milliseconds(o)
+        tri_ratio, time_ratio = tri / otri, ms / oms
+        measure = m.get("measured_over_eps", -1)
+        if measure >= 0:
+            measures.append(measure)
+        sums = [sums[0] + tri, sums[1] + otri, sums[2] + ms, sums[3] + oms]
+        if tri_ratio > TRIANGLE_LIMIT or time_ratio > TIME_LIMIT:
+            over.append(f"{model} {eps}")
+        busy = max(t.get("others_cpu", 0), o.get("others_cpu", 0))
+        print(f"| {model} | {eps} | {tri:,.0f} | {o['rate']:.0f} | {otri:,.0f} | "
+              f"{mark(tri_ratio, TRIANGLE_LIMIT)} | {ms:.2f} | {oms:.2f} | {mark(time_ratio, TIME_LIMIT)} | "
+              f"{measure:.2f} | {t['bound_over_eps']:.2f} | {busy:.2f} |")
+    print(f"| **sum** | | {sums[0]:,.0f} | | {sums[1]:,.0f} | **{sums[0] / sums[1]:.2f}** | "
+          f"{sums[2]:.1f} | {sums[3]:.1f} | **{sums[2] / sums[3]:.2f}** | | | |")
+    if measures:
+        print(f"\nMeasured error / ε: mean {sum(measures) / len(measures):.2f}, "
+              f"max {max(measures):.2f} over {len(measures)} cases.")
+    print(f"\nCases over a per-case limit (triangles > {TRIANGLE_LIMIT}x or time > {TIME_LIMIT}x): "
+          f"{', '.join(over) if over else 'none'}.")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
