@@ -2,10 +2,11 @@
 # The main job: start tessera-server on the embedded store (SQLite in a scratch folder, loopback,
 # a free port), then a round trip with the CLI: upload the bundled sample, fetch a GLB within
 # 1e-3 of the bounding-box diagonal of its exact limit surface and a pixel-accurate PNG frame.
-# Outputs land in ./demo-output/.
+# Outputs land in ./demo-output/. Installs what is missing and builds first (README's first command).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-[ -x build/server/tessera-server ] && [ -x build/client/tessera ] || tools/build.sh
+tools/install-deps.sh
+tools/build.sh
 
 out="demo-output"
 mkdir -p "$out"

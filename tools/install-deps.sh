@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Installs every Debian package Tessera needs to build, test and run (Debian 12 "bookworm").
-# Used by README's set-up command and by .ci/run, so the two cannot drift apart.
+# Installs the Debian packages Tessera needs to build, test and run (Debian 12 "bookworm") that
+# are missing; does nothing when all are there. tools/demo.sh and tools/test.sh (README's two
+# commands, and .ci/run through the second) start with it, so they cannot drift apart.
 set -euo pipefail
 
 packages=(
@@ -25,9 +26,19 @@ packages=(
 
 sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
 
-export DEBIAN_FRONTEND=noninteractive
-sudo_if_needed apt-get update -qq
 # Node.js runs Khronos' glTF validator in the tests; keep an existing install (it may carry its own npm).
 command -v node >/dev/null || packages+=(nodejs)
 command -v npm >/dev/null || packages+=(npm)
-sudo_if_needed apt-get install -y -qq --no-install-recommends "${packages[@]}"
+
+missing=()
+for package in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed" || missing+=("$package")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: every package is installed"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+sudo_if_needed apt-get update -qq
+sudo_if_needed apt-get install -y -qq --no-install-recommends "${missing[@]}"

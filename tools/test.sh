@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# Builds and runs the whole test suite: unit and end-to-end tests through ctest (the server's
-# store tests also against a throwaway PostgreSQL cluster), then the OBJ reader's fuzzer for a
-# bounded time (TESSERA_FUZZ_SECONDS, default 60).
+# Installs what is missing, builds, and runs the whole test suite (README's second command, and
+# what .ci/run calls): unit and end-to-end tests through ctest (the server's store tests also
+# against a throwaway PostgreSQL cluster), then the OBJ reader's fuzzer for a bounded time
+# (TESSERA_FUZZ_SECONDS, default 60).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+tools/install-deps.sh
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/tessera-xdg}"
 mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
 tools/build.sh
