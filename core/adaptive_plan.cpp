@@ -15,6 +15,10 @@ namespace tessera {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// A node is split only when its quadrants need at most this share of its triangles: every tile
+// costs planning, stitching and triangulation set-up worth a few triangles, and on the characters
+// at 1e-4 this saves 8-26 % of the work for 2-3 % more triangles (0.4-0.8 % at 1e-3).
+constexpr double kSplitGain = 0.85;
 // How far below a leaf piece de Casteljau may split it, and the deepest tile level at all
 // (tile coordinates stay exact integers).
 constexpr int kMaxSplitBelowLeaf = 16;
@@ -339,8 +343,8 @@ void Planner::emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   out.push_back(tile);
 }
 
-// A node becomes a tile unless its four quadrants, each tessellated on its own, need fewer
-// triangles (one level of look-ahead); a node no grid can serve is always split.
+// A node becomes a tile unless its four quadrants, each tessellated on its own, need enough fewer
+// triangles (one level of look-ahead, kSplitGain); a node no grid can serve is always split.
 void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const {
   if ((grid.feasible() && grid.triangles() <= 8) || !splittable(c)) {
     if (grid.feasible()) return emit(c, grid, out);
@@ -360,7 +364,7 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
     childGrids[q] = gridFor(children[q]);
     childTriangles += childGrids[q].feasible() ? childGrids[q].triangles() : std::numeric_limits<int32_t>::max();
   }
-  if (grid.feasible() && grid.triangles() <= childTriangles) return emit(c, grid, out);
+  if (grid.feasible() && double(grid.triangles()) * kSplitGain <= double(childTriangles)) return emit(c, grid, out);
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
 }
 
