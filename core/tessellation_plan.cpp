@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/bezier_net.h"
 #include "core/bicubic.h"
 #include "core/depth_bound.h"
 #include "core/depth_tables.h"
@@ -23,19 +24,10 @@ namespace {
 
 // M_uu + 2 M_uv + M_vv of a bicubic Bézier from its second differences (MATH.md §4).
 double curvatureBound(const Vec3* b) {
-  auto at = [b](int row, int col) { return Vec3d(b[4 * row + col]); };
-  double uu = 0, vv = 0, uv = 0;
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 2; ++j) {
-      uu = std::max(uu, length(at(i, j) - at(i, j + 1) * 2.0 + at(i, j + 2)));
-      vv = std::max(vv, length(at(j, i) - at(j + 1, i) * 2.0 + at(j + 2, i)));
-    }
-  }
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j)
-      uv = std::max(uv, length(at(i, j) - at(i, j + 1) - at(i + 1, j) + at(i + 1, j + 1)));
-  }
-  return 6 * uu + 2 * 9 * uv + 6 * vv;
+  Vec3d net[16];
+  for (int k = 0; k < 16; ++k) net[k] = Vec3d(b[k]);
+  const Curvature m = netCurvature(net);
+  return m.uu + 2 * m.uv + m.vv;
 }
 
 // What planning a piece needs besides the piece: the request and its tolerance model.

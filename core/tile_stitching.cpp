@@ -173,9 +173,9 @@ void sideCoordinates(const LineUse& use, Int lo, Int hi, Int cell, Int point, do
   Int fromLo = point - lo, toHi = hi - point;
   if (use.sign < 0) std::swap(fromLo, toHi);
   const Int span = hi - lo;
-  if (remainder(fromLo, cell) == 0) {
-    const int k = int(quotient(fromLo, cell));
-    at = double(k) / use.cells, back = double(use.cells - k) / use.cells;
+  const Int k = quotient(fromLo, cell);
+  if (k * cell == fromLo) {
+    at = double(k) / use.cells, back = double(use.cells - int(k)) / use.cells;
     return;
   }
   at = double(toLongDouble(fromLo) / toLongDouble(span));
