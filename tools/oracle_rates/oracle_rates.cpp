@@ -201,7 +201,8 @@ void writeHeader(std::ostream& out, const std::string& command, int threads) {
       << " (Far for interior\n"
          "# valence 2). Search: R = 1, 2, 4, ... then bisection, assuming the error is monotonic "
          "in R.\n"
-         "# *_rel columns are distances divided by the control mesh's bounding-box diagonal.\n";
+         "# *_rel columns are distances divided by the control mesh's bounding-box diagonal.\n"
+         "# rate \">R\": no rate within the triangle budget met eps; the row gives R's figures.\n";
   out << "# machine: " << machineDescription() << ", " << threads << " threads used\n";
   out << "# date: " << utcNow() << "\n";
   out << "# command: " << command << "\n";
@@ -270,8 +271,12 @@ int run(int argc, char** argv) {
       int failing = 0;
       const std::optional<Measurement> m = oracleRate(measurer, eps, maxRate, failing);
       table << name << ',' << eps << ',';
-      if (!m) {  // the rate column says which rate was the last to fail
-        table << ">" << failing << ",,,,,,,\n" << std::flush;
+      if (!m) {  // ">R": R, the last rate measured, still misses eps; the row gives R's figures
+        const Measurement& last = measurer.measure(failing);
+        table << ">" << failing << ',' << last.triangles << ',' << last.vertices << ','
+              << last.report.twoSidedRelative() << ',' << last.report.limitToMeshRelative() << ','
+              << last.report.meshToLimitRelative() << ',' << last.limitSamples << ',' << kTriangleSamples
+              << '\n' << std::flush;
         std::printf("%s eps %.0e: beyond rate %d (budget)\n", name.c_str(), eps, failing);
         continue;
       }
