@@ -1,7 +1,10 @@
 #include "core/glb_writer.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cstring>
-#include <sstream>
+#include <nlohmann/json.hpp>
 
 #define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_STB_IMAGE_WRITE
@@ -18,117 +21,107 @@ namespace tessera {
 
 namespace {
 
-template <typename T>
-void appendBytes(std::vector<unsigned char>& buffer, const std::vector<T>& values) {
-  size_t offset = buffer.size();
-  buffer.resize(offset + values.size() * sizeof(T));
-  if (!values.empty()) std::memcpy(buffer.data() + offset, values.data(), values.size() * sizeof(T));
-}
+// glTF 2.0 §4.4 (binary glTF): a 12-byte header, then chunks of (length, type, data), each
+// padded to 4 bytes (JSON with spaces, BIN with zeros).
+constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+constexpr int kFloat = 5126, kUnsignedShort = 5123, kUnsignedInt = 5125;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
 
-int addView(tinygltf::Model& model, size_t offset, size_t length, int target) {
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = offset;
-  view.byteLength = length;
-  view.target = target;
-  model.bufferViews.push_back(view);
-  return int(model.bufferViews.size() - 1);
-}
-
-int addVec3Accessor(tinygltf::Model& model, int view, const std::vector<Vec3>& values, bool bounds) {
-  tinygltf::Accessor accessor;
-  accessor.bufferView = view;
-  accessor.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  accessor.type = TINYGLTF_TYPE_VEC3;
-  accessor.count = values.size();
-  if (bounds && !values.empty()) {
-    Vec3 lo = values[0], hi = values[0];
-    for (const Vec3& v : values) {
-      lo = Vec3(std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z));
-      hi = Vec3(std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z));
-    }
-    accessor.minValues = {lo.x, lo.y, lo.z};
-    accessor.maxValues = {hi.x, hi.y, hi.z};
-  }
-  model.accessors.push_back(accessor);
-  return int(model.accessors.size() - 1);
-}
+size_t padded(size_t bytes) { return (bytes + 3) & ~size_t(3); }
 
 // Indices as 16-bit integers when every vertex fits (a quarter less to send and to hash for
 // typical results of up to ~130K triangles); 65535 is glTF's primitive-restart value and may not
 // be used, so 16 bits hold at most 65535 vertices.
 bool fitsShortIndices(const TriangleMesh& mesh) { return mesh.positions.size() <= 65535; }
 
-void appendIndices(std::vector<unsigned char>& buffer, const TriangleMesh& mesh) {
-  if (!fitsShortIndices(mesh)) {
-    appendBytes(buffer, mesh.indices);
-    return;
+// The accessor bounds glTF requires for positions: the exact float extremes.
+void positionBounds(const std::vector<Vec3>& positions, nlohmann::json& lo, nlohmann::json& hi) {
+  if (positions.empty()) return;
+  Vec3 a = positions[0], b = positions[0];
+  for (const Vec3& v : positions) {
+    a = Vec3(std::min(a.x, v.x), std::min(a.y, v.y), std::min(a.z, v.z));
+    b = Vec3(std::max(b.x, v.x), std::max(b.y, v.y), std::max(b.z, v.z));
   }
-  const size_t offset = buffer.size();
-  // GLB chunks end on a 4-byte boundary; the padding is zeros.
-  buffer.resize((offset + mesh.indices.size() * sizeof(uint16_t) + 3) & ~size_t(3));
-  for (size_t i = 0; i < mesh.indices.size(); ++i) {
-    const uint16_t index = static_cast<uint16_t>(mesh.indices[i]);
-    std::memcpy(buffer.data() + offset + i * sizeof(uint16_t), &index, sizeof index);
-  }
+  lo = {double(a.x), double(a.y), double(a.z)};
+  hi = {double(b.x), double(b.y), double(b.z)};
 }
 
-int addIndexAccessor(tinygltf::Model& model, size_t offset, const TriangleMesh& mesh) {
-  const bool shortIndices = fitsShortIndices(mesh);
-  const size_t elementBytes = shortIndices ? sizeof(uint16_t) : sizeof(uint32_t);
-  tinygltf::Accessor indices;
-  indices.bufferView = addView(model, offset, mesh.indices.size() * elementBytes,
-                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-  indices.componentType =
-      shortIndices ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-  indices.type = TINYGLTF_TYPE_SCALAR;
-  indices.count = mesh.indices.size();
-  model.accessors.push_back(indices);
-  return int(model.accessors.size() - 1);
+// The JSON chunk: one scene, one node, one mesh whose primitive reads positions, normals and
+// indices from three views of the one binary buffer laid out in that order.
+std::string glbJson(const TriangleMesh& mesh, const std::string& meshName, size_t indexBytes, size_t binBytes) {
+  const size_t vertexBytes = mesh.positions.size() * sizeof(Vec3);
+  nlohmann::json position = {{"bufferView", 0}, {"componentType", kFloat}, {"count", mesh.positions.size()}, {"type", "VEC3"}};
+  if (!mesh.positions.empty()) positionBounds(mesh.positions, position["min"], position["max"]);
+  const nlohmann::json json = {
+      {"asset", {{"version", "2.0"}, {"generator", "Tessera"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", {{{"mesh", 0}, {"name", meshName}}}},
+      {"meshes",
+       {{{"name", meshName},
+         {"primitives",
+          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"mode", kTriangles}}}}}}},
+      {"accessors",
+       {position,
+        {{"bufferView", 1}, {"componentType", kFloat}, {"count", mesh.normals.size()}, {"type", "VEC3"}},
+        {{"bufferView", 2},
+         {"componentType", fitsShortIndices(mesh) ? kUnsignedShort : kUnsignedInt},
+         {"count", mesh.indices.size()},
+         {"type", "SCALAR"}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", vertexBytes}, {"target", kArrayBuffer}},
+        {{"buffer", 0}, {"byteOffset", vertexBytes}, {"byteLength", vertexBytes}, {"target", kArrayBuffer}},
+        {{"buffer", 0}, {"byteOffset", 2 * vertexBytes}, {"byteLength", indexBytes}, {"target", kElementArrayBuffer}}}},
+      {"buffers", {{{"byteLength", binBytes}}}}};
+  return json.dump();
+}
+
+void put32(uint8_t* at, uint32_t value) { std::memcpy(at, &value, 4); }
+
+// The binary chunk's data: positions, normals, then indices (16-bit where they fit), written in
+// place on all cores.
+void writeBin(const TriangleMesh& mesh, uint8_t* out) {
+  const size_t vertexBytes = mesh.positions.size() * sizeof(Vec3);
+  if (vertexBytes) std::memcpy(out, mesh.positions.data(), vertexBytes);
+  if (vertexBytes) std::memcpy(out + vertexBytes, mesh.normals.data(), vertexBytes);
+  uint8_t* indices = out + 2 * vertexBytes;
+  if (!fitsShortIndices(mesh)) {
+    if (!mesh.indices.empty()) std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.indices.size(), 1 << 16), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const uint16_t index = static_cast<uint16_t>(mesh.indices[i]);
+      std::memcpy(indices + i * sizeof(uint16_t), &index, sizeof index);
+    }
+  });
 }
 
 }  // namespace
 
+// Written straight into the result (the JSON is small; the binary chunk is copied once).
 std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshName) {
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = "Tessera";
-  tinygltf::Buffer buffer;
-  appendBytes(buffer.data, mesh.positions);
-  appendBytes(buffer.data, mesh.normals);
-  appendIndices(buffer.data, mesh);
-  model.buffers.push_back(buffer);
-
-  const size_t vertexBytes = mesh.positions.size() * sizeof(Vec3);
-  int positions = addVec3Accessor(model, addView(model, 0, vertexBytes, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                  mesh.positions, true);
-  int normals = addVec3Accessor(model, addView(model, vertexBytes, vertexBytes, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                mesh.normals, false);
-  int indices = addIndexAccessor(model, 2 * vertexBytes, mesh);
-
-  tinygltf::Primitive primitive;
-  primitive.attributes["POSITION"] = positions;
-  primitive.attributes["NORMAL"] = normals;
-  primitive.indices = indices;
-  primitive.mode = TINYGLTF_MODE_TRIANGLES;
-  tinygltf::Mesh gltfMesh;
-  gltfMesh.name = meshName;
-  gltfMesh.primitives.push_back(primitive);
-  model.meshes.push_back(gltfMesh);
-  tinygltf::Node node;
-  node.mesh = 0;
-  node.name = meshName;
-  model.nodes.push_back(node);
-  tinygltf::Scene scene;
-  scene.nodes.push_back(0);
-  model.scenes.push_back(scene);
-  model.defaultScene = 0;
-
-  std::ostringstream out;
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&model, out, false, true)) throwInvalid("could not write the GLB");
-  std::string bytes = out.str();
-  return std::vector<uint8_t>(bytes.begin(), bytes.end());
+  if (mesh.normals.size() != mesh.positions.size()) throwInvalid("could not write the GLB: normals and positions differ in count");
+  const size_t indexBytes = mesh.indices.size() * (fitsShortIndices(mesh) ? sizeof(uint16_t) : sizeof(uint32_t));
+  const size_t binBytes = padded(2 * mesh.positions.size() * sizeof(Vec3) + indexBytes);
+  std::string json = glbJson(mesh, meshName, indexBytes, binBytes);
+  json.resize(padded(json.size()), ' ');
+  const size_t total = 12 + 8 + json.size() + 8 + binBytes;
+  if (total > UINT32_MAX) throwLimit("the GLB would be over 4 GiB, the format's limit; raise the tolerance");
+  std::vector<uint8_t> glb(total, 0);
+  put32(glb.data(), kGlbMagic);
+  put32(glb.data() + 4, 2);
+  put32(glb.data() + 8, uint32_t(total));
+  put32(glb.data() + 12, uint32_t(json.size()));
+  put32(glb.data() + 16, kChunkJson);
+  std::memcpy(glb.data() + 20, json.data(), json.size());
+  uint8_t* bin = glb.data() + 20 + json.size();
+  put32(bin, uint32_t(binBytes));
+  put32(bin + 4, kChunkBin);
+  writeBin(mesh, bin + 8);
+  return glb;
 }
 
 namespace {

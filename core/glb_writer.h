@@ -1,5 +1,6 @@
-// glTF 2.0 binary (GLB) output through tinygltf: one mesh, one primitive of indexed triangles
-// with positions and normals, accessor bounds set, and the generator named in the asset.
+// glTF 2.0 binary (GLB) output: one mesh, one primitive of indexed triangles with positions and
+// normals, accessor bounds set, and the generator named in the asset. Written directly (the JSON
+// through nlohmann::json, the binary chunk copied once); read back through tinygltf.
 #pragma once
 
 #include <cstdint>
