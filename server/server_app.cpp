@@ -3,6 +3,7 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/impl/server_builder_option.h>
 #include <grpcpp/resource_quota.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -138,12 +139,24 @@ std::string boundAddress(const std::string& listen, int port) {
                                              : fmt::format("{}:{}", host, port);
 }
 
+// Removes gRPC's reflection service from a server being built.
+class WithoutReflection : public grpc::ServerBuilderOption {
+ public:
+  void UpdateArguments(grpc::ChannelArguments*) override {}
+  void UpdatePlugins(std::vector<std::unique_ptr<grpc::ServerBuilderPlugin>>* plugins) override {
+    std::erase_if(*plugins, [](const auto& plugin) { return plugin->name() == "proto_server_reflection"; });
+  }
+};
+
 std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
                                               const std::vector<grpc::Service*>& services,
                                               bool reflection, ServerMetrics& metrics, int* port) {
   grpc::EnableDefaultHealthCheckService(true);
-  if (reflection) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  // Linking gRPC's reflection library registers its plugin for every builder at load time, so
+  // "off" must take the plugin out again.
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
+  if (!reflection) builder.SetOption(std::make_unique<WithoutReflection>());
   builder.AddListeningPort(config.listen, serverCredentials(config), port);
   for (grpc::Service* service : services) builder.RegisterService(service);
   grpc::ResourceQuota quota("tessera-server");
