@@ -48,6 +48,7 @@ struct MeshLimits {
   int64_t maxVertices = 50'000'000;
   int64_t maxFaces = 50'000'000;
   int maxFaceSize = 64;
+  int maxValence = 65535;  // faces at one vertex: OpenSubdiv's topology holds at most 65535
   float maxAbsCoordinate = 1e18f;
 };
 

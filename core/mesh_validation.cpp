@@ -1,11 +1,14 @@
 // validateControlMesh (declared in core/control_mesh.h): the invariants the rest of core/ relies
 // on, checked in an order where each check may assume the earlier ones (sizes before indices,
-// indices before edges). Every pass is linear in the mesh size, apart from a sort of the creases.
+// indices before edges). Every pass is linear in the mesh size, apart from sorts of the crease
+// and corner tags.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/control_mesh.h"
@@ -69,6 +72,18 @@ void checkFaceVertices(const ControlMesh& mesh) {
                      " more than once");
       }
       lastFace[vertex] = face;
+    }
+  }
+}
+
+// OpenSubdiv refuses a vertex with more faces than its limit only when the topology is built,
+// so the cause is named at upload instead.
+void checkValences(const ControlMesh& mesh, const MeshLimits& limits) {
+  std::vector<int> faces(mesh.positions.size(), 0);
+  for (int vertex : mesh.faceVertices) {
+    if (++faces[vertex] > limits.maxValence) {
+      throwInvalid("vertex " + std::to_string(vertex) + " is shared by more than " +
+                   std::to_string(limits.maxValence) + " faces, the most a vertex may have");
     }
   }
 }
@@ -157,6 +172,23 @@ class CreaseEdgeIndex {
   std::vector<uint8_t> found_;
 };
 
+// The same edge (or vertex) tagged twice must say the same sharpness: which one was meant is
+// not for us to guess.
+template <typename Key>
+void checkRepeatedTags(std::vector<std::tuple<Key, float, size_t>> tags, const char* kind,
+                       const std::function<std::string(const Key&)>& name) {
+  std::sort(tags.begin(), tags.end());
+  for (size_t i = 1; i < tags.size(); ++i) {
+    const auto& [key, sharpness, index] = tags[i];
+    const auto& [previousKey, previousSharpness, previousIndex] = tags[i - 1];
+    if (key != previousKey || sharpness == previousSharpness) continue;
+    const auto [first, second] = std::minmax(index, previousIndex);
+    throwInvalid(std::string(kind) + "s " + std::to_string(first) + " and " + std::to_string(second) + " both tag " +
+                 name(key) + ", with sharpness " + formatNumber(index == first ? sharpness : previousSharpness) +
+                 " and " + formatNumber(index == first ? previousSharpness : sharpness));
+  }
+}
+
 void checkCreasesAreEdges(const ControlMesh& mesh) {
   CreaseEdgeIndex index(mesh);
   size_t faceStart = 0;
@@ -187,7 +219,15 @@ void checkCreases(const ControlMesh& mesh) {
     }
     checkSharpness(crease.sharpness, "crease", i);
   }
-  if (!mesh.creases.empty()) checkCreasesAreEdges(mesh);
+  if (mesh.creases.empty()) return;
+  checkCreasesAreEdges(mesh);
+  std::vector<std::tuple<uint64_t, float, size_t>> tags;
+  for (size_t i = 0; i < mesh.creases.size(); ++i) {
+    tags.emplace_back(undirectedEdgeKey(mesh.creases[i].v0, mesh.creases[i].v1), mesh.creases[i].sharpness, i);
+  }
+  checkRepeatedTags<uint64_t>(std::move(tags), "crease", [](const uint64_t& key) {
+    return "edge (" + std::to_string(key >> 32) + ", " + std::to_string(key & UINT32_MAX) + ")";
+  });
 }
 
 void checkCorners(const ControlMesh& mesh) {
@@ -195,6 +235,9 @@ void checkCorners(const ControlMesh& mesh) {
     checkVertexReference(mesh.corners[i].vertex, mesh.vertexCount(), "corner", i);
     checkSharpness(mesh.corners[i].sharpness, "corner", i);
   }
+  std::vector<std::tuple<int, float, size_t>> tags;
+  for (size_t i = 0; i < mesh.corners.size(); ++i) tags.emplace_back(mesh.corners[i].vertex, mesh.corners[i].sharpness, i);
+  checkRepeatedTags<int>(std::move(tags), "corner", [](const int& vertex) { return "vertex " + std::to_string(vertex); });
 }
 
 void checkHoles(const ControlMesh& mesh) {
@@ -219,6 +262,7 @@ void validateControlMesh(const ControlMesh& mesh, const MeshLimits& limits) {
   checkCounts(mesh, limits);
   checkFaceSizes(mesh, limits);
   checkFaceVertices(mesh);
+  checkValences(mesh, limits);
   checkPositions(mesh, limits);
   checkCreases(mesh);
   checkCorners(mesh);

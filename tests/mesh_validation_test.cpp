@@ -132,6 +132,40 @@ TEST(MeshValidation, SharpnessMustBeFiniteAndNotNegative) {
   expectRefused(mesh, ErrorKind::kInvalidInput, "corner 1 has sharpness -3");
 }
 
+TEST(MeshValidation, AnEdgeOrVertexTaggedTwiceMustSayOneSharpness) {
+  ControlMesh mesh = makeCube();
+  mesh.creases = {{0, 1, 2.0f}, {2, 3, 1.0f}, {1, 0, 2.0f}};  // the same edge twice, alike: accepted
+  validateControlMesh(mesh);
+  mesh.creases = {{0, 1, 2.0f}, {2, 3, 1.0f}, {1, 0, 5.0f}};
+  expectRefused(mesh, ErrorKind::kInvalidInput, "creases 0 and 2 both tag edge (0, 1), with sharpness 2 and 5");
+  mesh.creases = {};
+  mesh.corners = {{3, 1.0f}, {5, 2.0f}, {3, 0.5f}};
+  expectRefused(mesh, ErrorKind::kInvalidInput, "corners 0 and 2 both tag vertex 3, with sharpness 1 and 0.5");
+}
+
+// A fan of triangles around one vertex: `faces` faces at vertex 0.
+ControlMesh fan(int faces) {
+  ControlMesh mesh;
+  mesh.positions.push_back(Vec3(0, 0, 0));
+  for (int i = 0; i < faces; ++i) {
+    const double angle = 6.283185307179586 * i / faces;
+    mesh.positions.push_back(Vec3(float(std::cos(angle)), float(std::sin(angle)), 0));
+  }
+  for (int i = 0; i < faces; ++i) {
+    mesh.faceSizes.push_back(3);
+    mesh.faceVertices.insert(mesh.faceVertices.end(), {0, 1 + i, 1 + (i + 1) % faces});
+  }
+  return mesh;
+}
+
+TEST(MeshValidation, AVertexInMoreFacesThanOpenSubdivHoldsIsRefusedNamingIt) {
+  validateControlMesh(fan(65535));
+  expectRefused(fan(65536), ErrorKind::kInvalidInput, "vertex 0 is shared by more than 65535 faces");
+  MeshLimits limits;
+  limits.maxValence = 16;
+  expectRefused(fan(17), ErrorKind::kInvalidInput, "vertex 0 is shared by more than 16 faces", limits);
+}
+
 TEST(MeshValidation, CornersAndHolesMustBeInRange) {
   ControlMesh mesh = makeCube();
   mesh.corners = {{8, 1.0f}};
