@@ -8,6 +8,9 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <unordered_set>
+
+#include <google/protobuf/descriptor.h>
 
 #include "tessera/status_names.h"
 
@@ -33,6 +36,30 @@ std::string newRequestId() {
   static const uint32_t prefix = std::random_device{}();
   static std::atomic<uint64_t> counter{0};
   return fmt::format("{:08x}-{:x}", prefix, ++counter);
+}
+
+// The methods this server serves, as gRPC names them ("/package.Service/Method"): Tessera's
+// services from the generated descriptors, health and reflection by name.
+const std::unordered_set<std::string>& servedMethods() {
+  static const std::unordered_set<std::string> methods = [] {
+    std::unordered_set<std::string> names = {"/grpc.health.v1.Health/Check", "/grpc.health.v1.Health/Watch",
+                                             "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo"};
+    for (const char* service : {"MeshService", "TessellationService", "RenderService", "ServerInfoService"}) {
+      const auto* descriptor =
+          google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(std::string("tessera.v1.") + service);
+      for (int m = 0; descriptor && m < descriptor->method_count(); ++m) {
+        names.insert("/" + descriptor->full_name() + "/" + descriptor->method(m)->name());
+      }
+    }
+    return names;
+  }();
+  return methods;
+}
+
+// Metrics label a call by its method only when the server serves it: names a client makes up
+// share one label, so the metrics stay bounded whatever clients send.
+std::string methodLabel(const char* method) {
+  return method && servedMethods().count(method) ? std::string(method) : std::string("unknown");
 }
 
 class RequestObserver final : public grpc::experimental::Interceptor {
@@ -81,7 +108,7 @@ class RequestObserver final : public grpc::experimental::Interceptor {
   void finish() {
     finished_ = true;
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    std::string method = info_->method() ? info_->method() : "unknown";
+    std::string method = methodLabel(info_->method());
     grpc::StatusCode code = code_.value_or(grpc::StatusCode::CANCELLED);
     std::string codeName(statusCodeName(code));
     metrics_.requests.add({method, codeName});

@@ -2,6 +2,9 @@
 // upload bytes, cache use and store size.
 #include <gtest/gtest.h>
 
+#include <grpcpp/generic/generic_stub.h>
+
+#include <future>
 #include <regex>
 
 #include "tests/server/server_process.h"
@@ -54,6 +57,28 @@ TEST(Metrics, ScrapesCountRequestsByMethodAndStatusAndTrackUploadsAndTheStore) {
   EXPECT_EQ(seriesValue(response, "tessera_store_bytes"), double(canonicalEncoding(mesh).size()));
   EXPECT_EQ(seriesValue(response, "tessera_queue_depth"), 0);
   EXPECT_EQ(seriesValue(response, "tessera_triangles_produced_total"), 0);
+}
+
+// Calls to methods the server does not serve share one label, however many names clients make up.
+TEST(Metrics, MadeUpMethodNamesShareOneLabel) {
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  grpc::GenericStub stub(server->channel());
+  for (int i = 0; i < 20; ++i) {
+    grpc::ClientContext context;
+    prepare(context);
+    grpc::Slice empty(std::string{});
+    const grpc::ByteBuffer request(&empty, 1);
+    grpc::ByteBuffer response;
+    std::promise<grpc::Status> done;
+    stub.UnaryCall(&context, "/made.up.Service/Method" + std::to_string(i), {}, &request, &response,
+                   [&done](grpc::Status status) { done.set_value(std::move(status)); });
+    ASSERT_EQ(done.get_future().get().error_code(), grpc::StatusCode::UNIMPLEMENTED);
+  }
+  const std::string response = httpGet(server->metricsAddress(), "/metrics");
+  EXPECT_EQ(response.find("made.up.Service"), std::string::npos);
+  EXPECT_EQ(seriesValue(response, "tessera_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 20);
 }
 
 TEST(Metrics, OtherPathsAreNotFound) {
