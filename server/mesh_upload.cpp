@@ -111,6 +111,13 @@ void UploadAssembler::acceptHeader(const v1::UploadMeshHeader& header) {
         "header.total_bytes: {} bytes exceeds the server's max_upload_bytes of {}",
         header.total_bytes(), limits_.maxUploadBytes));
   }
+  // Arrays are counted in 4-byte units (kScalarBytes; creases 12, corners 8): no arrays upload
+  // can add up to any other size.
+  if (metadata_.sourceFormat == SourceFormat::kArrays && header.total_bytes() % kScalarBytes != 0) {
+    throwInvalidArgument(fmt::format(
+        "header.total_bytes: {} is not a multiple of 4; an ARRAYS upload counts 4 bytes per number",
+        header.total_bytes()));
+  }
   declaredBytes_ = header.total_bytes();
   metadata_.sourceBytes = declaredBytes_;
 }

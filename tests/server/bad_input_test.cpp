@@ -238,6 +238,11 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
            h.set_total_bytes(good.uploadBytes() + 100);
          }));
        }},
+      {"an ARRAYS size no numbers add up to", grpc::StatusCode::INVALID_ARGUMENT,
+       "header.total_bytes: 102 is not a multiple of 4",
+       [&] {
+         return uploadStatus(withHeader(arraysWith(good), [](auto& h) { h.set_total_bytes(102); }));
+       }},
       {"a message over gRPC's 4 MiB limit", grpc::StatusCode::RESOURCE_EXHAUSTED, "larger than max",
        [&] {
          v1::UploadMeshRequest huge;
