@@ -15,10 +15,12 @@ namespace tessera {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-// A node is split only when its quadrants need at most this share of its triangles: every tile
-// costs planning, stitching and triangulation set-up worth a few triangles, and on the characters
-// at 1e-4 this saves 8-26 % of the work for 2-3 % more triangles (0.4-0.8 % at 1e-3).
-constexpr double kSplitGain = 0.85;
+// A node is split only when its quadrants need at least this many fewer triangles: a tile costs
+// planning, stitching and triangulation set-up worth about four triangles (measured on bigguy at
+// 1e-3: ~1.5 us a tile, ~0.4 us a triangle), and a split makes three more. Against the earlier
+// rule (split when the quadrants need at most 85 % of the triangles), on the nine benchmark
+// models at 1e-2..1e-4 this gives 0.8 % fewer triangles summed in 12 % less time.
+constexpr int64_t kSplitSaving = 8;
 // How far below a leaf piece de Casteljau may split it, and the deepest tile level at all
 // (tile coordinates stay exact integers).
 constexpr int kMaxSplitBelowLeaf = 16;
@@ -344,7 +346,7 @@ void Planner::emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out
 }
 
 // A node becomes a tile unless its four quadrants, each tessellated on its own, need enough fewer
-// triangles (one level of look-ahead, kSplitGain); a node no grid can serve is always split.
+// triangles (one level of look-ahead, kSplitSaving); a node no grid can serve is always split.
 void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const {
   if ((grid.feasible() && grid.triangles() <= 8) || !splittable(c)) {
     if (grid.feasible()) return emit(c, grid, out);
@@ -364,7 +366,7 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
     childGrids[q] = gridFor(children[q]);
     childTriangles += childGrids[q].feasible() ? childGrids[q].triangles() : std::numeric_limits<int32_t>::max();
   }
-  if (grid.feasible() && double(grid.triangles()) * kSplitGain <= double(childTriangles)) return emit(c, grid, out);
+  if (grid.feasible() && grid.triangles() - childTriangles < kSplitSaving) return emit(c, grid, out);
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
 }
 

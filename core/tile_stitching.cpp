@@ -204,6 +204,21 @@ struct InnerKey {
   int64_t fixed() const { return int64_t(line & ~(uint64_t(1) << 63)); }
 };
 
+// A tile corner strictly inside its root, sorted by position, then tile corner 4 (t − first) + c.
+struct InnerCorner {
+  int64_t x, y;
+  uint32_t tileCorner;
+  friend bool operator<(const InnerCorner& a, const InnerCorner& b) {
+    return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.tileCorner < b.tileCorner)));
+  }
+};
+
+// The corner (0..3, counter-clockwise from (ix, iy)) at which side k ends, low or high along it.
+uint32_t sideEndCorner(int k, bool high) {
+  static constexpr uint32_t kCorner[4][2] = {{0, 1}, {1, 2}, {3, 2}, {0, 3}};
+  return kCorner[k][high];
+}
+
 // What one thread writes while stitching (roots and lines name their slices of it), and the
 // room it reuses from root to root and line to line.
 struct Arena {
@@ -211,7 +226,8 @@ struct Arena {
   std::vector<PendingPoint> pool;     // points of tile sides inside roots
   std::vector<LineUse> boundaryUses;  // tile sides on roots' boundaries, root side by root side
   std::vector<Int> linePoints;        // resolved boundary lines
-  std::vector<std::pair<int64_t, int64_t>> inner;
+  std::vector<InnerCorner> inner;
+  std::vector<uint32_t> cornerId;
   std::vector<LineUse> innerUses;
   std::vector<InnerKey> innerKeys;
   std::vector<LineUse> line;
@@ -328,19 +344,25 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   RootSlice& slice = slices_[root];
   slice.arena = &a;
   slice.localsFrom = uint32_t(a.locals.size());
-  // Inner corners first, numbered in (x, y) order.
+  // Inner corners first, numbered in (x, y) order, each evaluated by the first tile with a corner
+  // there; cornerId names them per tile corner 4 (t − first) + c (UINT32_MAX: not inner).
   a.inner.clear();
+  a.cornerId.assign(4 * size_t(last - first), UINT32_MAX);
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
-    for (int c = 0; c < 4; ++c) {
+    for (uint32_t c = 0; c < 4; ++c) {
       const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
-      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) a.inner.push_back({x, y});
+      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) a.inner.push_back({x, y, 4 * (t - first) + c});
     }
   }
   std::sort(a.inner.begin(), a.inner.end());
-  a.inner.erase(std::unique(a.inner.begin(), a.inner.end()), a.inner.end());
-  for (const auto& [x, y] : a.inner) {
-    a.locals.push_back({UINT32_MAX, double(x) * exp2i(-kRootBits), double(y) * exp2i(-kRootBits), 0});
+  for (size_t i = 0; i < a.inner.size(); ++i) {
+    const InnerCorner& corner = a.inner[i];
+    if (i == 0 || corner.x != a.inner[i - 1].x || corner.y != a.inner[i - 1].y) {
+      a.locals.push_back({first + corner.tileCorner / 4, double(corner.x) * exp2i(-kRootBits),
+                          double(corner.y) * exp2i(-kRootBits), 0});
+    }
+    a.cornerId[corner.tileCorner] = uint32_t(a.locals.size() - 1) - slice.localsFrom;
   }
   // Sides on the root's boundary, root side by root side, placed on their line.
   for (int k = 0; k < 4; ++k) {
@@ -395,17 +417,6 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
       }
     }
   }
-  // Inner corners take the first tile that has one as the tile that evaluates it.
-  for (uint32_t t = first; t < last; ++t) {
-    const Tile& tile = plan_.tiles[t];
-    for (int c = 0; c < 4; ++c) {
-      const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
-      if (!(x > 0 && x < kRootScale && y > 0 && y < kRootScale)) continue;
-      const size_t id = std::lower_bound(a.inner.begin(), a.inner.end(), std::pair{x, y}) - a.inner.begin();
-      VertexRequest& request = a.locals[slice.localsFrom + id];
-      request.tile = std::min(request.tile, t);
-    }
-  }
   slice.localsCount = uint32_t(a.locals.size()) - slice.localsFrom;
 }
 
@@ -440,11 +451,13 @@ void Stitcher::resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a)
       const LineUse& use = line[(a.endOf[p] - 1) / 2];
       const uint32_t t = use.tile;
       const Tile& tile = plan_.tiles[t];
-      const int64_t along = at(tile.level, (axis == 1 ? tile.ix : tile.iy) + (a.endOf[p] - 1) % 2);
-      const int64_t x = axis == 1 ? along : fixed, y = axis == 1 ? fixed : along;
-      if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) {
-        point.id = uint32_t(std::lower_bound(a.inner.begin(), a.inner.end(), std::pair{x, y}) - a.inner.begin());
+      const bool high = (a.endOf[p] - 1) % 2;
+      const uint32_t id = a.cornerId[4 * (t - plan_.rootFirstTile[root]) + sideEndCorner(use.side, high)];
+      if (id != UINT32_MAX) {
+        point.id = id;
       } else {
+        const int64_t along = at(tile.level, (axis == 1 ? tile.ix : tile.iy) + high);
+        const int64_t x = axis == 1 ? along : fixed, y = axis == 1 ? fixed : along;
         point.kind = Ref::kSideEnd;
         point.id = boundarySideEnd(plan_.tiles[t], t, x, y, point.end);
       }
