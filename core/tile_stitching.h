@@ -13,6 +13,7 @@
 
 #include "core/adaptive_plan.h"
 #include "core/seam_lines.h"
+#include "core/uninitialized_vector.h"
 
 namespace tessera {
 
@@ -35,8 +36,8 @@ struct SidePoint {
 };
 
 struct Stitching {
-  std::vector<VertexRequest> vertices;
-  std::vector<SidePoint> sidePoints;
+  UninitializedVector<VertexRequest> vertices;  // written in full by stitchTiles
+  UninitializedVector<SidePoint> sidePoints;
   std::vector<uint32_t> sideFirst;  // side k of tile t: [sideFirst[4t + k], sideFirst[4t + k + 1])
   std::vector<uint32_t> gridFirst;  // tile t's (ru − 1)(rv − 1) inner grid vertices, row by row
 
