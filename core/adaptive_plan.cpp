@@ -141,6 +141,7 @@ class Planner {
   Curvature outsideCorners(const NodeSquare& n, const NodeSquare& tile, int ru, int rv) const;
   void plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
   void emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const;
+  void mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>& out) const;
   double epsilonOf(const Candidate& c) const { return tolerance_.forBox(c.lo, c.hi); }
   void beginRoot(uint32_t root) const;
 
@@ -367,7 +368,34 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
     childTriangles += childGrids[q].feasible() ? childGrids[q].triangles() : std::numeric_limits<int32_t>::max();
   }
   if (grid.feasible() && grid.triangles() - childTriangles < kSplitSaving) return emit(c, grid, out);
+  const size_t first = out.size();
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
+  mergeCellwise(c, first, out);
+}
+
+// Four quadrants planned as settled one-cell tiles (or cell-wise tiles of one rate) become one
+// cell-wise tile over the node: the same triangles, one tile's work.
+void Planner::mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>& out) const {
+  if (out.size() != first + 4) return;
+  const Tile& head = out[first];
+  for (size_t i = first; i < out.size(); ++i) {
+    const Tile& t = out[i];
+    const bool cells = (t.ru == 1 && t.rv == 1) || t.cellwise;
+    if (!cells || t.pendingPair || t.ru != head.ru || t.rv != head.rv || t.level != c.level + 1) return;
+  }
+  if (2 * head.ru > kMaxTileRate) return;
+  Tile merged;
+  merged.node = c.real;
+  merged.level = c.level, merged.ix = c.ix, merged.iy = c.iy;
+  merged.ru = merged.rv = 2 * head.ru;
+  merged.cellwise = true;
+  merged.bound = head.bound, merged.tolerance = head.tolerance;
+  for (size_t i = first + 1; i < out.size(); ++i) {
+    merged.bound = std::max(merged.bound, out[i].bound);
+    merged.tolerance = std::min(merged.tolerance, out[i].tolerance);
+  }
+  out.resize(first);
+  out.push_back(merged);
 }
 
 void Planner::beginRoot(uint32_t root) const {

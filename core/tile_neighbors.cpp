@@ -93,8 +93,8 @@ uint32_t TileNeighbors::covering(uint32_t root, int level, uint64_t ix, uint64_t
 }
 
 // The tile across: points inside our side come from a smaller tile (its corner), from cells
-// shorter than the side (the densest-first rule fills the gap), or from a strip that keeps its
-// own points (tile_stitching.h).
+// shorter than the side (the densest-first rule fills the gap), or from a strip or a cell-wise
+// tile, which keep their own points (tile_stitching.h).
 bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side, int64_t a,
                                       int64_t b) const {
   const uint32_t t = covering(root, level, ix, iy);
@@ -105,9 +105,9 @@ bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uin
   const int64_t sideLength = corner(n.level, 1);
   // Its cell, sideLength / cells, against our side, b − a.
   if (__int128(sideLength) < __int128(b - a) * cells) return true;
-  const bool strip = (n.ru == 1) != (n.rv == 1);
-  if (!strip || cells == 1) return false;
-  // The first own point past a: positions (i·cells + j)·sideLength/cells of the strip's side.
+  const bool keepsOwnPoints = (n.ru == 1) != (n.rv == 1) || n.cellwise;
+  if (!keepsOwnPoints || cells == 1) return false;
+  // The first own point past a: positions (i·cells + j)·sideLength/cells of its side.
   const int64_t origin = corner(n.level, alongU ? n.ix : n.iy);
   const __int128 j = (__int128(a - origin) * cells) / sideLength + 1;
   return j < cells && __int128(origin) * cells + j * sideLength < __int128(b) * cells;

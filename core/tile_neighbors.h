@@ -1,7 +1,7 @@
 // Which tile sides will get points beside their corners once seams are stitched, without
 // stitching (docs/ADAPTIVE.md §5): a side does when a smaller tile meets it, when the tile across
-// has cells along it shorter than the side, or when the tile across is a strip whose own points
-// it must keep and one falls inside the side (tile_stitching.h's rules). Lets planning settle
+// has cells along it shorter than the side, or when the tile across is a strip or a cell-wise
+// tile, whose own points it must keep, and one falls inside the side (tile_stitching.h's rules). Lets planning settle
 // the one-cell tiles it planned on their corners' bound alone in cheap rounds.
 #pragma once
 

@@ -76,8 +76,12 @@ void resolveStretch(const LineUse* uses, const uint32_t* members, size_t count, 
   uint32_t densest = head;
   for (size_t m = 0; m < count; ++m) {
     const uint32_t i = members[m];
-    sameSpan &= !uses[i].rigid && out.lo[i] == out.lo[head] && out.hi[i] == out.hi[head];
+    sameSpan &= out.lo[i] == out.lo[head] && out.hi[i] == out.hi[head];
     if (out.cell[i] < out.cell[densest]) densest = i;
+  }
+  // A rigid side's own points are among the densest side's when its cells divide them.
+  for (size_t m = 0; m < count && sameSpan; ++m) {
+    sameSpan = !uses[members[m]].rigid || uses[densest].cells % uses[members[m]].cells == 0;
   }
   if (sameSpan) {
     // Sides over one stretch (the common seam, or a boundary of the surface): the densest one's
@@ -269,7 +273,8 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
   const bool alongU = k == 0 || k == 2;
   use.cells = alongU ? tile.ru : tile.rv;
   use.exp = tile.level;
-  use.rigid = ((tile.ru == 1) != (tile.rv == 1)) && use.cells > 1;  // a strip's long side
+  // A strip's long side, or any side of a cell-wise tile: it keeps its own points.
+  use.rigid = (((tile.ru == 1) != (tile.rv == 1)) || tile.cellwise) && use.cells > 1;
   use.tile = t;
   use.side = uint8_t(k);
   return use;
@@ -535,17 +540,21 @@ void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
   }
 }
 
-// The common seam: every side on the line spans all of it (no rigid strip side), so its points
-// are the densest side's, k/cells for k = 0..cells (resolveLine's rule comes to that), the ends
-// are its nodes and each end is named by the lowest tile. Returns false for any other line.
+// The common seam: every side on the line spans all of it (and a rigid side's cells divide the
+// densest's), so its points are the densest side's, k/cells for k = 0..cells (resolveLine's rule
+// comes to that), the ends are its nodes and each end is named by the lowest tile. Returns false
+// for any other line.
 bool Stitcher::resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses) {
   int cells = 0;
   uint32_t lowest = 0;
   for (uint32_t u = 0; u < uses.size(); ++u) {
     const LineUse& use = uses[u];
-    if (use.rigid || use.t0 != 0 || use.t1 != kLineScale) return false;
+    if (use.t0 != 0 || use.t1 != kLineScale) return false;
     cells = std::max(cells, use.cells);
     if (use.tile < uses[lowest].tile) lowest = u;
+  }
+  for (const LineUse& use : uses) {
+    if (use.rigid && cells % use.cells != 0) return false;
   }
   LineRecord& record = records_[l];
   record.uniformCells = cells;

@@ -2,9 +2,10 @@
 // domain (a base edge, an n-gon spoke, or a line inside a root); the sides on one line agree on
 // one set of points there, each named once, so the two sides of every seam share bit-identical
 // vertices. A line's points are its sides' corners, the own grid points of sides that must keep
-// them (the long sides of one-cell-wide strips), and, densest side first, a side's own grid points
-// wherever the points so far leave a gap wider than that side's cell: so no side ever sees a gap
-// wider than its own cells, which is what keeps every triangle inside one cell's box.
+// them (the long sides of one-cell-wide strips, every side of a cell-wise tile), and, densest side
+// first, a side's own grid points wherever the points so far leave a gap wider than that side's
+// cell: so no side ever sees a gap wider than its own cells, which is what keeps every triangle
+// inside one cell's box.
 #pragma once
 
 #include <cstdint>

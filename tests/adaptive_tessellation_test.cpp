@@ -231,5 +231,50 @@ TEST(AdaptiveTessellation, CoarseRequestsUseCoarseTiles) {
   EXPECT_LT(layout.plan.tiles.size() * 20, pieces) << layout.plan.tiles.size() << " tiles for " << pieces << " pieces";
 }
 
+// Four settled one-cell quadrants become one cell-wise tile (adaptive_plan.h) whose cells are
+// triangulated one by one: every triangle of such a tile lies in one of its cells with its
+// corners on the cell's sides, and the tile's bound is within its ε.
+TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  const TessellationResult result = tessellateAt(mesh, set, 1e-3);
+  TessellationOptions options;
+  options.tolerance = 1e-3;
+  options.relativeTolerance = true;
+  const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
+  ASSERT_EQ(layout.plan.tiles.size(), size_t(result.summary.pieces));
+  size_t cellwise = 0, checked = 0;
+  for (const Tile& tile : layout.plan.tiles) {
+    if (!tile.cellwise) continue;
+    ++cellwise;
+    EXPECT_EQ(tile.ru, tile.rv);
+    EXPECT_LE(tile.bound, tile.tolerance);
+  }
+  EXPECT_GT(cellwise, 100u);
+  for (size_t t = 0; t < result.mesh.triangleCount(); ++t) {
+    const Tile& tile = layout.plan.tiles[result.mesh.trianglePiece[t]];
+    if (!tile.cellwise) continue;
+    // The cell holding the triangle's centroid holds its three corners (tile units, exact
+    // fractions of a power of two up to rounding).
+    double u[3], v[3];
+    for (int k = 0; k < 3; ++k) {
+      u[k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.size() - double(tile.ix)) * tile.ru;
+      v[k] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.size() - double(tile.iy)) * tile.rv;
+    }
+    const double cu = std::floor((u[0] + u[1] + u[2]) / 3), cv = std::floor((v[0] + v[1] + v[2]) / 3);
+    // ... and lie on its sides, as docs/ADAPTIVE.md §3 asks of a one-cell triangulation.
+    auto near = [](double a, double b) { return std::abs(a - b) < 1e-9; };
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(u[k], cu - 1e-9);
+      EXPECT_LE(u[k], cu + 1 + 1e-9);
+      EXPECT_GE(v[k], cv - 1e-9);
+      EXPECT_LE(v[k], cv + 1 + 1e-9);
+      EXPECT_TRUE(near(u[k], cu) || near(u[k], cu + 1) || near(v[k], cv) || near(v[k], cv + 1));
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 4 * cellwise);
+}
+
 }  // namespace
 }  // namespace tessera
