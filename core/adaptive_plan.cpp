@@ -373,15 +373,17 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   mergeCellwise(c, first, out);
 }
 
-// Four quadrants planned as settled one-cell tiles (or cell-wise tiles of one rate) become one
-// cell-wise tile over the node: the same triangles, one tile's work.
+// Four quadrants planned as one-cell tiles (or cell-wise tiles of one rate) become one cell-wise
+// tile over the node: the same triangles, one tile's work. Sides between the quadrants get no
+// points beside their own, so only the outer sides keep the pending quadrants' bows: the merged
+// tile is pending if any quadrant was, with side k's bow the largest of the quadrants along it.
 void Planner::mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>& out) const {
   if (out.size() != first + 4) return;
   const Tile& head = out[first];
   for (size_t i = first; i < out.size(); ++i) {
     const Tile& t = out[i];
     const bool cells = (t.ru == 1 && t.rv == 1) || t.cellwise;
-    if (!cells || t.pendingPair || t.ru != head.ru || t.rv != head.rv || t.level != c.level + 1) return;
+    if (!cells || t.ru != head.ru || t.rv != head.rv || t.level != c.level + 1) return;
   }
   if (2 * head.ru > kMaxTileRate) return;
   Tile merged;
@@ -389,10 +391,18 @@ void Planner::mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>&
   merged.level = c.level, merged.ix = c.ix, merged.iy = c.iy;
   merged.ru = merged.rv = 2 * head.ru;
   merged.cellwise = true;
-  merged.bound = head.bound, merged.tolerance = head.tolerance;
-  for (size_t i = first + 1; i < out.size(); ++i) {
-    merged.bound = std::max(merged.bound, out[i].bound);
-    merged.tolerance = std::min(merged.tolerance, out[i].tolerance);
+  merged.bound = 0, merged.tolerance = head.tolerance;
+  for (size_t i = first; i < out.size(); ++i) {
+    const Tile& t = out[i];
+    merged.bound = std::max(merged.bound, t.bound);
+    merged.tolerance = std::min(merged.tolerance, t.tolerance);
+    if (!t.pendingPair) continue;
+    merged.pendingPair = true;
+    const bool right = t.ix & 1, top = t.iy & 1;
+    const bool outer[4] = {!top, right, top, !right};
+    for (int k = 0; k < 4; ++k) {
+      if (outer[k]) merged.sideBow[k] = std::max(merged.sideBow[k], t.sideBow[k]);
+    }
   }
   out.resize(first);
   out.push_back(merged);

@@ -29,7 +29,8 @@ struct Tile {
   float sideBow[4] = {0, 0, 0, 0};
   // Four sibling one-cell tiles (or cell-wise tiles of one rate) merged: ru = rv = 2^k cells,
   // each triangulated as the one-cell tile it was, its sides keeping their own points; `bound`
-  // is the largest of theirs (docs/ADAPTIVE.md §6).
+  // is the largest of theirs, and when pending, "points beside its corners" means points beside
+  // its own grid points (docs/ADAPTIVE.md §6).
   bool cellwise = false;
 
   double size() const { return exp2i(-level); }

@@ -171,8 +171,8 @@ void splitFoldNormals(TriangleMesh& mesh) {
   }
 }
 
-// A pending one-cell tile's bound: the pair plus the largest bow of a side that gets points
-// beside its corners (docs/ADAPTIVE.md §3).
+// A pending tile's bound (one-cell or cell-wise): the pair plus the largest bow of a side that
+// gets points beside its own grid points (docs/ADAPTIVE.md §3, §6).
 float pairBound(const Tile& tile, const bool points[4]) {
   float bow = 0;
   for (int k = 0; k < 4; ++k) {
@@ -234,9 +234,10 @@ bool settlePending(AdaptivePlan& plan, const Stitching& stitching, std::vector<T
     if (tile.pendingPair) {
       bool points[4];
       for (int k = 0; k < 4; ++k) {
+        // Points beside the side's own grid points (its corners, for a one-cell tile).
         size_t count;
         stitching.side(t, k, count);
-        points[k] = count > 2;
+        points[k] = count > size_t(k == 0 || k == 2 ? tile.ru : tile.rv) + 1;
       }
       tile.bound = pairBound(tile, points);
       tile.pendingPair = false;

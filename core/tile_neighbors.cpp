@@ -115,14 +115,28 @@ bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uin
 
 bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) const {
   const Tile& tile = tiles_[root][index];
-  const uint64_t last = (uint64_t(1) << tile.level) - 1;
+  if (!tile.cellwise) return squareSideGetsPoints(root, tile.level, tile.ix, tile.iy, side);
+  // A cell-wise tile keeps its own points: what matters is whether any of its cells along the
+  // side gets more, each cell seen as the one-cell tile it was.
+  const int cells = tile.ru, depth = __builtin_ctz(unsigned(cells));
+  const uint64_t x0 = tile.ix << depth, y0 = tile.iy << depth, last = uint64_t(cells) - 1;
+  for (uint64_t c = 0; c < uint64_t(cells); ++c) {
+    const uint64_t x = x0 + (side == 0 || side == 2 ? c : side == 1 ? last : 0);
+    const uint64_t y = y0 + (side == 1 || side == 3 ? c : side == 2 ? last : 0);
+    if (squareSideGetsPoints(root, tile.level + depth, x, y, side)) return true;
+  }
+  return false;
+}
+
+bool TileNeighbors::squareSideGetsPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side) const {
+  const uint64_t last = (uint64_t(1) << level) - 1;
   const bool alongU = side == 0 || side == 2;
-  const int64_t a = corner(tile.level, alongU ? tile.ix : tile.iy), b = corner(tile.level, (alongU ? tile.ix : tile.iy) + 1);
-  const bool onBoundary = side == 0 ? tile.iy == 0 : side == 1 ? tile.ix == last : side == 2 ? tile.iy == last : tile.ix == 0;
+  const int64_t a = corner(level, alongU ? ix : iy), b = corner(level, (alongU ? ix : iy) + 1);
+  const bool onBoundary = side == 0 ? iy == 0 : side == 1 ? ix == last : side == 2 ? iy == last : ix == 0;
   if (!onBoundary) {
-    const uint64_t nx = side == 1 ? tile.ix + 1 : side == 3 ? tile.ix - 1 : tile.ix;
-    const uint64_t ny = side == 2 ? tile.iy + 1 : side == 0 ? tile.iy - 1 : tile.iy;
-    return acrossGivesPoints(root, tile.level, nx, ny, side ^ 2, a, b);
+    const uint64_t nx = side == 1 ? ix + 1 : side == 3 ? ix - 1 : ix;
+    const uint64_t ny = side == 2 ? iy + 1 : side == 0 ? iy - 1 : iy;
+    return acrossGivesPoints(root, level, nx, ny, side ^ 2, a, b);
   }
   // Across a base edge or spoke: the roots on the same line, where they overlap our side.
   const RootSeams::Span& ours = seams_.own[4 * size_t(root) + side];

@@ -36,7 +36,8 @@ class TileNeighbors {
   TileNeighbors(const RootSeams& seams, const RootTiles& tiles);
   // tiles[root] changed: index it again.
   void reindex(uint32_t root);
-  // Whether side k of tiles[root][tile] will get points beside its corners.
+  // Whether side k of tiles[root][tile] will get points beside its corners (beside its own grid
+  // points, for a cell-wise tile).
   bool sideGetsPoints(uint32_t root, uint32_t tile, int side) const;
 
  private:
@@ -45,6 +46,8 @@ class TileNeighbors {
     uint64_t ix, iy;
     uint32_t tile;
   };
+  // Side k of square (level, ix, iy) of `root`, as a one-cell tile's.
+  bool squareSideGetsPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side) const;
   // The tile of `root` covering square (level, ix, iy), UINT32_MAX when smaller tiles do.
   uint32_t covering(uint32_t root, int level, uint64_t ix, uint64_t iy) const;
   // Whether the tile of `root` across square (level, ix, iy)'s side `side` puts points strictly
