@@ -41,8 +41,12 @@ Rates ratesFor(const Curvature& m, double size, double epsilon, int minRate = 1)
   if (!m.finite() || !(epsilon > 0)) return best;
   const double a = m.uu * size * size, b = m.uv * size * size, c = m.vv * size * size;
   const double target = 8 * epsilon;
+  // However many cells along u, rv ≥ √(c / 8ε) (the h² M_vv term alone): past the ru where even
+  // that gives more cells than the best so far, nothing better follows (the floor lowered by a
+  // hair so that rounding in the bound never skips a tie).
+  const double rvFloor = std::max(double(minRate), std::sqrt(c / target) * (1 - 1e-9));
   int64_t bestCells = std::numeric_limits<int64_t>::max();
-  for (int ru = minRate; ru <= kMaxTileRate && ru < bestCells; ++ru) {
+  for (int ru = minRate; ru <= kMaxTileRate && ru < bestCells && double(ru) * rvFloor <= double(bestCells); ++ru) {
     const double k = target - a / (double(ru) * ru);
     if (k <= 0) continue;
     double rvReal = 1;
