@@ -179,7 +179,8 @@ void sideCoordinates(const LineUse& use, Int lo, Int hi, Int cell, Int point, do
   const Int span = hi - lo;
   const Int k = quotient(fromLo, cell);
   if (k * cell == fromLo) {
-    at = double(k) / use.cells, back = double(use.cells - int(k)) / use.cells;
+    const int own = int(int64_t(k));  // 0..cells
+    at = double(own) / use.cells, back = double(use.cells - own) / use.cells;
     return;
   }
   at = double(toLongDouble(fromLo) / toLongDouble(span));
