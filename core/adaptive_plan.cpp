@@ -493,6 +493,9 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
 AdaptivePlan flattenPlan(const RootTiles& tiles) {
   AdaptivePlan plan;
   plan.rootFirstTile.reserve(tiles.size() + 1);
+  size_t count = 0;
+  for (const std::vector<Tile>& root : tiles) count += root.size();
+  plan.tiles.reserve(count);
   plan.tolerance = kInfinity;
   for (const std::vector<Tile>& root : tiles) {
     plan.rootFirstTile.push_back(uint32_t(plan.tiles.size()));

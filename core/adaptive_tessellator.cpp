@@ -201,26 +201,34 @@ std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors
   return all;
 }
 
-// The roots whose tiles can see a change in these: themselves and those across their sides.
-std::vector<uint32_t> affectedRoots(const RootSeams& seams, const std::vector<TileSquare>& changed) {
-  std::vector<uint32_t> roots;
+// The roots whose tiles can see a change in these: themselves and those across their sides
+// (marked, then listed in order: no sort of the many repeats).
+std::vector<uint32_t> affectedRoots(const RootSeams& seams, const std::vector<TileSquare>& changed, size_t rootCount) {
+  std::vector<uint8_t> marked(rootCount, 0);
   for (const TileSquare& q : changed) {
-    roots.push_back(q.root);
+    marked[q.root] = 1;
     for (int k = 0; k < 4; ++k) {
       for (uint32_t i = seams.first[4 * size_t(q.root) + k]; i < seams.first[4 * size_t(q.root) + k + 1]; ++i) {
-        roots.push_back(seams.spans[i].root);
+        marked[seams.spans[i].root] = 1;
       }
     }
   }
-  std::sort(roots.begin(), roots.end());
-  roots.erase(std::unique(roots.begin(), roots.end()), roots.end());
+  std::vector<uint32_t> roots;
+  for (uint32_t r = 0; r < rootCount; ++r) {
+    if (marked[r]) roots.push_back(r);
+  }
   return roots;
 }
 
+// The changed roots (`changed` is sorted by root) indexed again, on all cores.
 void reindex(TileNeighbors& neighbors, const std::vector<TileSquare>& changed) {
+  std::vector<uint32_t> roots;
   for (size_t i = 0; i < changed.size(); ++i) {
-    if (i == 0 || changed[i].root != changed[i - 1].root) neighbors.reindex(changed[i].root);
+    if (i == 0 || changed[i].root != changed[i - 1].root) roots.push_back(changed[i].root);
   }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), 64), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) neighbors.reindex(roots[i]);
+  });
 }
 
 // Settles every pending tile's bound from its sides as stitched; false if one breaks its ε (the
@@ -269,7 +277,7 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
       // A failed square is planned with no pending tiles, so the rounds end.
       replanSquares(surface.tree, patches, options, failed, tiles);
       reindex(neighbors, failed);
-      check = affectedRoots(surface.rootSeams, failed);
+      check = affectedRoots(surface.rootSeams, failed, surface.tree.roots.size());
     }
     layout.plan = flattenPlan(tiles);
     if (layout.plan.gridTriangles > options.maxTriangles) {

@@ -1,5 +1,7 @@
 #include "core/tile_neighbors.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <map>
 
@@ -65,7 +67,9 @@ RootSeams::RootSeams(const SurfaceTree& tree, const SeamTopology& seams) {
 
 TileNeighbors::TileNeighbors(const RootSeams& seams, const RootTiles& tiles)
     : seams_(seams), tiles_(tiles), entries_(tiles.size()) {
-  for (uint32_t r = 0; r < tiles.size(); ++r) reindex(r);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(tiles.size()), 64), [&](const auto& range) {
+    for (uint32_t r = range.begin(); r != range.end(); ++r) reindex(r);
+  });
 }
 
 void TileNeighbors::reindex(uint32_t root) {
