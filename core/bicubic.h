@@ -38,7 +38,9 @@ struct PatchSample {
   Vec3d position, dPds, dPdt;
 };
 
-// Evaluates a tensor-product patch given its 1-D basis (B-spline or Bernstein) in double.
+// Evaluates a tensor-product patch given its 1-D basis (B-spline or Bernstein) in double: each
+// row contracted along s first (value and s-derivative), then the four rows along t, a third of
+// the multiplications of summing the 16 points with their product weights.
 template <typename Point, typename Basis>
 TESSERA_HD PatchSample evaluateTensorPatch(const Point cv[16], double s, double t, Basis basis) {
   double ws[4], dws[4], wt[4], dwt[4];
@@ -46,12 +48,15 @@ TESSERA_HD PatchSample evaluateTensorPatch(const Point cv[16], double s, double 
   basis(t, wt, dwt);
   PatchSample r;
   for (int row = 0; row < 4; ++row) {
+    Vec3d value, slope;
     for (int col = 0; col < 4; ++col) {
-      Vec3d p(cv[4 * row + col]);
-      r.position += p * (ws[col] * wt[row]);
-      r.dPds += p * (dws[col] * wt[row]);
-      r.dPdt += p * (ws[col] * dwt[row]);
+      const Vec3d p(cv[4 * row + col]);
+      value += p * ws[col];
+      slope += p * dws[col];
     }
+    r.position += value * wt[row];
+    r.dPds += slope * wt[row];
+    r.dPdt += value * dwt[row];
   }
   return r;
 }
