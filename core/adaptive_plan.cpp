@@ -134,7 +134,8 @@ class Planner {
     double size() const { return exp2i(-level); }
   };
   Candidate realCandidate(const NodeSquare& n) const;
-  Candidate quadrantCandidate(const Candidate& parent, const BezierNet& parentNet, int q) const;
+  // Quadrant q of `parent`, whose net is `net`.
+  Candidate quadrantCandidate(const Candidate& parent, const BezierNet& net, int q) const;
   bool splittable(const Candidate& c) const;
   void split(const Candidate& c, Candidate children[4]) const;
   Rates gridFor(Candidate& c) const;
@@ -174,13 +175,13 @@ Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
   return c;
 }
 
-Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const BezierNet& parentNet, int q) const {
+Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const BezierNet& net, int q) const {
   Candidate c;
   c.real = parent.real;
   c.level = parent.level + 1;
   c.ix = 2 * parent.ix + uint64_t(q & 1), c.iy = 2 * parent.iy + uint64_t(q >> 1);
   c.below = true;
-  c.net = quadrantNet(parentNet, q & 1, q >> 1);
+  c.net = net;
   c.m = netCurvature(c.net.data()).scaled(exp2i(2 * c.level));
   c.standIn = 0;
   c.gm = c.m;
@@ -206,8 +207,9 @@ void Planner::split(const Candidate& c, Candidate children[4]) const {
     for (int q = 0; q < 4; ++q) children[q] = realCandidate(c.real.child(tree_, q));
     return;
   }
-  const BezierNet net = c.below ? c.net : pieceNet(tree_, patches_, c.real.node);
-  for (int q = 0; q < 4; ++q) children[q] = quadrantCandidate(c, net, q);
+  BezierNet nets[4];
+  quadrantNets(c.below ? c.net : pieceNet(tree_, patches_, c.real.node), nets);
+  for (int q = 0; q < 4; ++q) children[q] = quadrantCandidate(c, nets[q], q);
 }
 
 // The part of descendant `n` of an EV tile outside the tile's open corner cells: its curvature
@@ -438,7 +440,7 @@ void Planner::planSquare(uint32_t root, const Tile& tile, std::vector<Tile>& out
   while (c.level < tile.level) {
     const int d = tile.level - c.level - 1;
     const int q = int((tile.ix >> d) & 1) | int(((tile.iy >> d) & 1) << 1);
-    const BezierNet net = c.below ? c.net : pieceNet(tree_, patches_, c.real.node);
+    const BezierNet net = quadrantNet(c.below ? c.net : pieceNet(tree_, patches_, c.real.node), q & 1, q >> 1);
     c = quadrantCandidate(c, net, q);
   }
   plan(c, gridFor(c), out);

@@ -73,6 +73,27 @@ inline BezierNet quadrantNet(const BezierNet& net, int qu, int qv) {
   return out;
 }
 
+// All four quadrant nets at once, out[qu + 2 qv] = quadrantNet(net, qu, qv) bit for bit: each row
+// and then each of the seven columns halved once, instead of once per quadrant.
+inline void quadrantNets(const BezierNet& net, BezierNet out[4]) {
+  Vec3d rows[4][7];  // each row's two halves, sharing the middle point
+  for (int row = 0; row < 4; ++row) {
+    halveCurve(&net[4 * row], 1, false, &rows[row][0], 1);
+    halveCurve(&net[4 * row], 1, true, &rows[row][3], 1);
+  }
+  for (int col = 0; col < 7; ++col) {
+    const Vec3d column[4] = {rows[0][col], rows[1][col], rows[2][col], rows[3][col]};
+    Vec3d lower[4], upper[4];
+    halveCurve(column, 1, false, lower, 1);
+    halveCurve(column, 1, true, upper, 1);
+    for (int qu = 0; qu < 2; ++qu) {
+      const int c = col - 3 * qu;  // the column's place in quadrant column qu
+      if (c < 0 || c > 3) continue;
+      for (int k = 0; k < 4; ++k) out[qu][4 * k + c] = lower[k], out[qu + 2][4 * k + c] = upper[k];
+    }
+  }
+}
+
 // How a piece's (s, t) frame sits in its root's (u, v): (su, sv) and (tu, tv) are the unit
 // directions, (±1, 0) or (0, ±1), of the piece's axes in the root.
 struct Orientation {
