@@ -10,16 +10,20 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 #include <string_view>
+#include <vector>
 
 namespace tessera::server {
 namespace {
 
 constexpr int kIoTimeoutMs = 2000;
 constexpr size_t kMaxRequestBytes = 8192;
+constexpr size_t kMaxConnections = 64;  // open at once; more are closed on arrival
 
 void closeFd(int& fd) {
   if (fd >= 0) ::close(fd);
@@ -56,25 +60,19 @@ int bindListener(const std::string& host, const std::string& port, std::string& 
   return fd;
 }
 
-// Reads until the end of the request head; false on timeout, error or an oversized head.
-bool readRequestHead(int fd, std::string& head) {
-  char buffer[1024];
-  while (head.find("\r\n\r\n") == std::string::npos && head.find("\n\n") == std::string::npos) {
-    pollfd p{fd, POLLIN, 0};
-    if (::poll(&p, 1, kIoTimeoutMs) <= 0) return false;
-    ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
-    if (n <= 0) return false;
-    head.append(buffer, static_cast<size_t>(n));
-    if (head.size() > kMaxRequestBytes) return false;
-  }
-  return true;
+bool headComplete(const std::string& head) {
+  return head.find("\r\n\r\n") != std::string::npos || head.find("\n\n") != std::string::npos;
 }
 
+// Sends the whole response within kIoTimeoutMs in all; a client that does not read loses it.
 void sendAll(int fd, std::string_view data) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kIoTimeoutMs);
   while (!data.empty()) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     pollfd p{fd, POLLOUT, 0};
-    if (::poll(&p, 1, kIoTimeoutMs) <= 0) return;
-    ssize_t n = ::send(fd, data.data(), data.size(), MSG_NOSIGNAL);
+    if (left.count() <= 0 || ::poll(&p, 1, int(left.count())) <= 0) return;
+    ssize_t n = ::send(fd, data.data(), data.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (n < 0 && (errno == EAGAIN || errno == EINTR)) continue;
     if (n <= 0) return;
     data.remove_prefix(static_cast<size_t>(n));
   }
@@ -128,25 +126,69 @@ void MetricsHttpServer::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+// One thread serves every connection: each is read as its bytes arrive (poll over all of them)
+// and must deliver its request head within kIoTimeoutMs of being accepted, so a client that
+// trickles bytes holds only its own connection, never the scrapes beside it.
 void MetricsHttpServer::serve() {
+  struct Pending {
+    int fd;
+    std::string head;
+    std::chrono::steady_clock::time_point deadline;
+  };
+  std::vector<Pending> pending;
+  std::vector<pollfd> fds;
   while (!stopping_) {
-    pollfd fds[2] = {{listenFd_, POLLIN, 0}, {wakeFds_[0], POLLIN, 0}};
-    if (::poll(fds, 2, -1) < 0) {
+    const auto now = std::chrono::steady_clock::now();
+    int timeout = -1;
+    for (const Pending& p : pending) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(p.deadline - now).count();
+      timeout = timeout < 0 ? int(std::max<int64_t>(left, 0)) : std::min(timeout, int(std::max<int64_t>(left, 0)));
+    }
+    fds.assign({{listenFd_, POLLIN, 0}, {wakeFds_[0], POLLIN, 0}});
+    for (const Pending& p : pending) fds.push_back({p.fd, POLLIN, 0});
+    if (::poll(fds.data(), fds.size(), timeout) < 0) {
       if (errno == EINTR) continue;
       spdlog::error("metrics server: poll failed: {}", std::strerror(errno));
-      return;
+      break;
     }
-    if (fds[1].revents) return;
-    int connection = ::accept4(listenFd_, nullptr, nullptr, SOCK_CLOEXEC);
-    if (connection < 0) continue;
-    handle(connection);
-    ::close(connection);
+    if (fds[1].revents) break;
+    // Requests that arrived (or ended, or ran out of time), then new connections.
+    const auto after = std::chrono::steady_clock::now();
+    std::vector<Pending> kept;
+    for (size_t i = 0; i < pending.size(); ++i) {
+      Pending& p = pending[i];
+      bool done = false;
+      if (fds[i + 2].revents) {
+        char buffer[1024];
+        const ssize_t n = ::recv(p.fd, buffer, sizeof buffer, MSG_DONTWAIT);
+        if (n > 0) p.head.append(buffer, size_t(n));
+        done = n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR) || p.head.size() > kMaxRequestBytes;
+        if (!done && headComplete(p.head)) {
+          respond(p.fd, p.head);
+          done = true;
+        }
+      }
+      if (!done && after >= p.deadline) done = true;
+      if (done) {
+        ::close(p.fd);
+      } else {
+        kept.push_back(std::move(p));
+      }
+    }
+    pending.swap(kept);
+    if (fds[0].revents) {
+      const int connection = ::accept4(listenFd_, nullptr, nullptr, SOCK_CLOEXEC);
+      if (connection >= 0 && pending.size() >= kMaxConnections) {
+        ::close(connection);
+      } else if (connection >= 0) {
+        pending.push_back({connection, {}, after + std::chrono::milliseconds(kIoTimeoutMs)});
+      }
+    }
   }
+  for (Pending& p : pending) ::close(p.fd);
 }
 
-void MetricsHttpServer::handle(int connection) {
-  std::string head;
-  if (!readRequestHead(connection, head)) return;
+void MetricsHttpServer::respond(int connection, const std::string& head) {
   std::string_view line(head.data(), head.find_first_of("\r\n"));
   bool isGet = line.substr(0, 4) == "GET ";
   bool isHead = line.substr(0, 5) == "HEAD ";

@@ -1,7 +1,8 @@
 // A minimal HTTP/1.1 responder for Prometheus scrapes: GET /metrics returns the registry's text,
-// anything else a 404 or 405. One connection at a time on its own thread, each closed after one
-// response; a client that stalls is dropped after a short timeout. Scrapes are rare and tiny, so
-// this is all a metrics port needs, and it avoids another dependency.
+// anything else a 404 or 405. One thread polls every open connection (up to 64), each closed
+// after one response; a connection whose request head has not arrived within two seconds of
+// accepting it is dropped, so a client that trickles bytes cannot hold up the others. Scrapes
+// are rare and tiny, so this is all a metrics port needs, and it avoids another dependency.
 #pragma once
 
 #include <atomic>
@@ -27,7 +28,7 @@ class MetricsHttpServer {
 
  private:
   void serve();
-  void handle(int connection);
+  void respond(int connection, const std::string& head);
 
   std::function<std::string()> render_;
   int listenFd_ = -1;

@@ -4,8 +4,14 @@
 
 #include <grpcpp/generic/generic_stub.h>
 
+#include <netdb.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <future>
 #include <regex>
+#include <thread>
 
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
@@ -79,6 +85,50 @@ TEST(Metrics, MadeUpMethodNamesShareOneLabel) {
   const std::string response = httpGet(server->metricsAddress(), "/metrics");
   EXPECT_EQ(response.find("made.up.Service"), std::string::npos);
   EXPECT_EQ(seriesValue(response, "tessera_requests_total{method=\"unknown\",code=\"UNIMPLEMENTED\"}"), 20);
+}
+
+// A TCP connection to `address` (HOST:PORT, loopback in these tests); -1 if it cannot connect.
+int connectTo(const std::string& address) {
+  const size_t colon = address.rfind(':');
+  addrinfo hints{};
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(address.substr(0, colon).c_str(), address.substr(colon + 1).c_str(), &hints, &found) != 0) return -1;
+  int fd = socket(found->ai_family, SOCK_STREAM, 0);
+  if (fd >= 0 && connect(fd, found->ai_addr, found->ai_addrlen) != 0) close(fd), fd = -1;
+  freeaddrinfo(found);
+  return fd;
+}
+
+// Clients that trickle a request a byte at a time hold only their own connections: a scrape
+// beside them is answered at once, and they are dropped once their two seconds are up.
+TEST(Metrics, SlowClientsDoNotHoldUpAScrape) {
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  std::vector<int> slow;
+  for (int i = 0; i < 3; ++i) slow.push_back(connectTo(server->metricsAddress()));
+  const std::string request = "GET /metrics HTTP/1.1\r\n";
+  for (size_t b = 0; b < 4; ++b) {
+    for (int fd : slow) ASSERT_EQ(send(fd, &request[b], 1, MSG_NOSIGNAL), 1);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const std::string response = httpGet(server->metricsAddress(), "/metrics");
+  EXPECT_NE(response.find("HTTP/1.1 200 OK"), std::string::npos);
+  // Answered while the slow clients are still connected (a server serving one connection at a
+  // time reaches the scrape only after dropping them).
+  for (int fd : slow) {
+    char byte;
+    EXPECT_EQ(recv(fd, &byte, 1, MSG_DONTWAIT), -1) << "a slow client was dropped before the scrape was answered";
+  }
+  // Past their deadline the slow connections are closed: a read sees the end of the stream.
+  for (int fd : slow) {
+    timeval wait{5, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+    char byte;
+    EXPECT_EQ(recv(fd, &byte, 1, 0), 0);
+    close(fd);
+  }
 }
 
 TEST(Metrics, OtherPathsAreNotFound) {
