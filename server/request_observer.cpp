@@ -81,6 +81,15 @@ class RequestObserver final : public grpc::experimental::Interceptor {
     }
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS)) {
       grpc::Status status = methods->GetSendStatus();
+      // gRPC answers a request it could not parse with INTERNAL and no message, before any
+      // handler runs (every handler names its errors): say what it was.
+      if (status.error_code() == grpc::StatusCode::INTERNAL && status.error_message().empty()) {
+        status = grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                              fmt::format("{}: the request is not a valid message for this method (a broken "
+                                          "protobuf, or a string field that is not UTF-8)",
+                                          methodLabel(info_->method())));
+        methods->ModifySendStatus(status);
+      }
       code_ = status.error_code();
       message_ = status.error_message();
       // Counted before the status leaves, so that a client that has its answer can already
