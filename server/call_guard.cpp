@@ -47,8 +47,9 @@ grpc::Status guardCall(grpc::ServerContext& context, const BearerAuth& auth,
     spdlog::error("out of memory in {}", context.peer());
     return {grpc::StatusCode::RESOURCE_EXHAUSTED, "the server ran out of memory for this request"};
   } catch (const std::exception& error) {
+    // The exception's text may name internals (libraries, files): the log keeps it.
     spdlog::error("internal error: {}", error.what());
-    return {grpc::StatusCode::INTERNAL, std::string("internal error: ") + error.what()};
+    return {grpc::StatusCode::INTERNAL, "internal error; the server's log has the cause"};
   } catch (...) {
     spdlog::error("internal error: unknown exception");
     return {grpc::StatusCode::INTERNAL, "internal error"};

@@ -24,14 +24,15 @@ int64_t nowMicros() {
   throwStatus(grpc::StatusCode::NOT_FOUND, fmt::format("mesh {} not found", meshName(id)));
 }
 
-// Runs a store call; a store failure becomes UNAVAILABLE, which clients may retry.
+// Runs a store call; a store failure becomes UNAVAILABLE, which clients may retry. The store's
+// own words (its library's message, host names, file names) go to the log, not to the client.
 template <typename F>
 auto storeCall(F&& call) -> decltype(call()) {
   try {
     return call();
   } catch (const StoreError& error) {
     spdlog::error("store: {}", error.what());
-    throwStatus(grpc::StatusCode::UNAVAILABLE, std::string("mesh store unavailable: ") + error.what());
+    throwStatus(grpc::StatusCode::UNAVAILABLE, "mesh store unavailable; the server's log has the cause");
   }
 }
 

@@ -97,7 +97,7 @@ v1::FrameError frameError(uint64_t sequence) {
     status = {grpc::StatusCode::RESOURCE_EXHAUSTED, "the server ran out of memory for this frame"};
   } catch (const std::exception& error) {
     spdlog::error("session frame {}: internal error: {}", sequence, error.what());
-    status = {grpc::StatusCode::INTERNAL, std::string("internal error: ") + error.what()};
+    status = {grpc::StatusCode::INTERNAL, "internal error; the server's log has the cause"};
   } catch (...) {
     spdlog::error("session frame {}: internal error: unknown exception", sequence);
     status = {grpc::StatusCode::INTERNAL, "internal error"};

@@ -1,0 +1,57 @@
+// A store that fails under the server: the client hears UNAVAILABLE (retry later) and nothing of
+// the store's own words (its library's messages, file names), which go to the server's log.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/server/server_process.h"
+#include "tests/server/test_support.h"
+
+namespace tessera::test {
+namespace {
+
+grpc::Status listMeshes(ServerProcess& server) {
+  auto stub = v1::MeshService::NewStub(server.channel());
+  grpc::ClientContext context;
+  prepare(context);
+  v1::ListMeshesRequest request;
+  v1::ListMeshesResponse response;
+  return stub->ListMeshes(&context, request, &response);
+}
+
+// SQLite's pages after the first (which holds the schema) overwritten while the server is down:
+// it starts, and every query of the meshes fails inside SQLite.
+TEST(StoreFailure, ADamagedSqliteStoreIsUnavailableWithoutItsInternals) {
+  TempDir dir;
+  const std::filesystem::path database = dir.path() / "damaged.db";
+  {
+    auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + database.string()});
+    ASSERT_TRUE(server);
+    auto stub = v1::MeshService::NewStub(server->channel());
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_TRUE(uploadMessages(*stub, arraysUpload("mesh-" + std::to_string(i), gridMesh(6, 0))).status.ok());
+    }
+    ASSERT_EQ(server->terminate(), 0);
+  }
+  const auto size = std::filesystem::file_size(database);
+  ASSERT_GT(size, 8192u);
+  {
+    std::fstream file(database, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(4096);
+    const std::string garbage(size - 4096, '\xA5');
+    file.write(garbage.data(), std::streamsize(garbage.size()));
+  }
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + database.string()});
+  ASSERT_TRUE(server);
+  const grpc::Status status = listMeshes(*server);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE) << status.error_message();
+  EXPECT_NE(status.error_message().find("mesh store unavailable"), std::string::npos) << status.error_message();
+  for (const std::string& internal : std::vector<std::string>{"sqlite", "malformed", "damaged.db", dir.path().string()}) {
+    EXPECT_EQ(status.error_message().find(internal), std::string::npos) << status.error_message();
+  }
+  // The cause is in the server's log for its operator.
+  EXPECT_NE(server->log().find("malformed"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tessera::test
