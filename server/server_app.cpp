@@ -23,6 +23,7 @@
 #include "server/cpu_engine.h"
 #include "server/patch_set_cache.h"
 #include "server/test_engines.h"
+#include "server/tls_key_pair.h"
 
 #ifndef TESSERA_VERSION
 #define TESSERA_VERSION "unknown"
@@ -46,8 +47,9 @@ std::string readFile(const std::string& path, const char* flag) {
 std::shared_ptr<grpc::ServerCredentials> serverCredentials(const ServerConfig& config) {
   if (config.tlsCert.empty()) return grpc::InsecureServerCredentials();
   grpc::SslServerCredentialsOptions options;
-  options.pem_key_cert_pairs.push_back(
-      {readFile(config.tlsKey, "--tls-key"), readFile(config.tlsCert, "--tls-cert")});
+  const std::string key = readFile(config.tlsKey, "--tls-key"), certificate = readFile(config.tlsCert, "--tls-cert");
+  checkTlsKeyPair(certificate, key);
+  options.pem_key_cert_pairs.push_back({key, certificate});
   return grpc::SslServerCredentials(options);
 }
 

@@ -48,15 +48,6 @@ TEST(Config, EnvironmentVariablesSetWhatNoFlagSets) {
   EXPECT_TRUE(std::filesystem::exists(dir.path() / "e.db"));
 }
 
-// Runs the server with args expecting it to refuse to start; returns its exit status and output.
-std::pair<int, std::string> failedStart(const std::filesystem::path& dir, const std::string& args) {
-  std::filesystem::path out = dir / "out.txt";
-  std::string command = std::string(TESSERA_SERVER_BINARY) + " --listen 127.0.0.1:0 " +
-                        "--metrics-listen off " + args + " > " + out.string() + " 2>&1";
-  int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(out)};
-}
-
 TEST(Config, UnknownOrInvalidSettingsStopTheServerWithAReason) {
   TempDir dir;
   std::filesystem::path config = dir.path() / "bad.toml";

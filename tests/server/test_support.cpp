@@ -6,6 +6,7 @@
 #include <netdb.h>
 #include <openssl/evp.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -330,6 +331,14 @@ std::string httpGet(const std::string& address, const std::string& path) {
   }
   if (fd >= 0) close(fd);
   return response;
+}
+
+std::pair<int, std::string> failedStart(const std::filesystem::path& dir, const std::string& args) {
+  std::filesystem::path out = dir / "out.txt";
+  std::string command = std::string(TESSERA_SERVER_BINARY) + " --listen 127.0.0.1:0 " +
+                        "--metrics-listen off " + args + " > " + out.string() + " 2>&1";
+  int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(out)};
 }
 
 }  // namespace tessera::test

@@ -67,6 +67,8 @@ struct MeshArrays {
 };
 
 std::string readFile(const std::filesystem::path& path);
+// Runs the server with args expecting it to refuse to start; returns its exit status and output.
+std::pair<int, std::string> failedStart(const std::filesystem::path& dir, const std::string& args);
 std::filesystem::path modelPath(const std::string& name);
 
 // Reads "v x y z" and "f a b c ..." (a, a/t, a//n, a/t/n; 1-based or negative) lines only.

@@ -53,5 +53,17 @@ TEST(Tls, ClientsThatTrustTheCertificateConnectAndPlaintextClientsCannot) {
   }
 }
 
+// A key that is not the certificate's stops the server at start, saying so (gRPC alone would
+// only fail to listen).
+TEST(Tls, AKeyThatIsNotTheCertificatesStopsTheServerSayingSo) {
+  TempDir first, second;
+  if (!makeCertificate(first.path()) || !makeCertificate(second.path())) GTEST_SKIP() << "no openssl tool";
+  auto [code, output] = failedStart(first.path(), "--store sqlite:" + (first.path() / "m.db").string() +
+                                                      " --tls-cert " + (first.path() / "cert.pem").string() +
+                                                      " --tls-key " + (second.path() / "key.pem").string());
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(output.find("--tls-key is not the key of the certificate in --tls-cert"), std::string::npos) << output;
+}
+
 }  // namespace
 }  // namespace tessera::test
