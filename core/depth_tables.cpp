@@ -85,14 +85,15 @@ double ringRadius(const RingRules& rules, const float* ring) {
 // its Bézier points, so dist ≤ max ‖q − p‖ + max ‖b − p‖ with p the EV's limit point.
 double hullBound(const RingRules& rules, const float* ring) {
   auto fetch = [ring](int index) { return Vec3(ring[3 * index], ring[3 * index + 1], ring[3 * index + 2]); };
-  Vec3d limit(extraordinaryLimit<Vec3>(rules, fetch));
+  const Vec3 evLimit = extraordinaryLimit<Vec3>(rules, fetch);
+  const Vec3d limit(evLimit);
   double ringSpread = 0, approxSpread = 0;
   for (int p = 0; p < rules.shape.ringPointCount(); ++p) {
     ringSpread = std::max(ringSpread, length(Vec3d(fetch(p)) - limit));
   }
   for (int i = 0; i < rules.shape.sectors; ++i) {
     Vec3 bezier[16];
-    innermostBezier<Vec3>(rules, i, fetch, bezier);
+    innermostBezier<Vec3>(rules, i, fetch, bezier, &evLimit);
     for (const Vec3& b : bezier) approxSpread = std::max(approxSpread, length(Vec3d(b) - limit));
   }
   return ringSpread + approxSpread;

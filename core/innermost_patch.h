@@ -60,8 +60,10 @@ TESSERA_HD P extraordinaryLimit(const RingRules& rules, Fetch ring) {
 
 // Bézier control points (row-major, s along spoke `sector`, t along the next spoke) of the
 // innermost quad of `sector`, from its ring. `ring(index)` returns the point at a CER index.
+// `limit`, when given, is extraordinaryLimit of the same ring: a caller that takes every sector
+// computes that O(n) sum once instead of once per sector.
 template <typename P, typename Fetch>
-TESSERA_HD void innermostBezier(const RingRules& rules, int sector, Fetch ring, P out[16]) {
+TESSERA_HD void innermostBezier(const RingRules& rules, int sector, Fetch ring, P out[16], const P* limit = nullptr) {
   using namespace cer;
   using innermost_detail::accInterior;
   using S = typename ScalarOf<P>::type;
@@ -95,7 +97,7 @@ TESSERA_HD void innermostBezier(const RingRules& rules, int sector, Fetch ring, 
 
   // Spokes from the EV: a crease curve when sharp, else the average of the two sectors' ACC-1
   // points (summed in the same order from both sides).
-  out[0] = extraordinaryLimit<P>(rules, ring);
+  out[0] = limit ? *limit : extraordinaryLimit<P>(rules, ring);
   if (rules.spokeSharp(i)) {
     out[1] = (ev * S(2) + e) * (S(1) / S(3));
     out[2] = (ev + e * S(2)) * (S(1) / S(3));

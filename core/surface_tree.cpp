@@ -114,6 +114,16 @@ class TreeBuilder {
   std::vector<double> pair_;
   std::vector<std::array<double, 4>> bow_;
   double floor_ = 0;
+  // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
+  // O(ring size) to compute, so computed once (a valence-n ring has n sectors): the stand-in
+  // bound, the EV's limit point (relative to the ring's centre) and the ring's box.
+  struct RingLevel {
+    double bound;
+    Vec3d limit;
+    float boxMin[3], boxMax[3];
+  };
+  std::vector<std::vector<RingLevel>> ringLevels_;
+  RingLevel ringLevel(size_t r, const float* ring, int level) const;
 };
 
 void TreeBuilder::makeRoots() {
@@ -134,19 +144,48 @@ double standInBound(const RingSet& rings, size_t r, const float* ringAtLevel, in
   return bound;
 }
 
+// The stand-in bound, the EV's limit and the box (world coordinates, widened by one float step)
+// of ring r at `level`: every EV quadrant of the ring at that level takes them (ringStandIn, setBox).
+TreeBuilder::RingLevel TreeBuilder::ringLevel(size_t r, const float* ring, int level) const {
+  const RingSet& rings = patches_.rings;
+  const RingRules rules = rings.rules(r);
+  RingLevel shared;
+  shared.bound = standInBound(rings, r, ring, level);
+  shared.limit = extraordinaryLimit<Vec3d>(rules, [ring](int index) {
+    return Vec3d(ring[3 * index], ring[3 * index + 1], ring[3 * index + 2]);
+  });
+  const Vec3 c = rings.centers[r];
+  for (int a = 0; a < 3; ++a) shared.boxMin[a] = shared.boxMax[a] = ring[a] + c[a];
+  for (int p = 0; p < rings.shapes[r].ringPointCount(); ++p) {
+    for (int a = 0; a < 3; ++a) {
+      const float x = ring[3 * p + a] + c[a];
+      shared.boxMin[a] = std::min(shared.boxMin[a], x), shared.boxMax[a] = std::max(shared.boxMax[a], x);
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    shared.boxMin[a] = std::nextafter(shared.boxMin[a], -kInfinity);
+    shared.boxMax[a] = std::nextafter(shared.boxMax[a], kInfinity);
+  }
+  return shared;
+}
+
 // Each ring is refined until its stand-in bound drops below the floor (or the tables end); the
 // refined sets of every level are kept, for the FAS leaves' nets.
 void TreeBuilder::refineRings() {
   const RingSet& rings = patches_.rings;
   tree_.chainDepth.resize(rings.size());
+  ringLevels_.assign(rings.size(), {});
   std::vector<std::vector<float>> levels(rings.size());
   tbb::parallel_for(size_t(0), rings.size(), [&](size_t r) {
     const RingRules rules = rings.rules(r);
     const size_t refinedFloats = 3 * size_t(rules.shape.refinedPointCount());
     std::vector<float>& kept = levels[r];
     auto ringOf = [&](int level) { return level == 0 ? rings.ringPoints(r) : kept.data() + (level - 1) * refinedFloats; };
+    std::vector<RingLevel>& shared = ringLevels_[r];
     int depth = 0;
-    while (depth < kMaxTableDepth && standInBound(rings, r, ringOf(depth), depth) > floor_) {
+    for (;;) {
+      shared.push_back(ringLevel(r, ringOf(depth), depth));
+      if (depth == kMaxTableDepth || shared.back().bound <= floor_) break;
       kept.resize((depth + 1) * refinedFloats);
       refineRingStep<3>(rules, ringOf(depth), kept.data() + depth * refinedFloats);
       ++depth;
@@ -277,13 +316,13 @@ NodeFit TreeBuilder::ringStandIn(const ChainStep& step, int) const {
   // In double, relative to the centre, then moved: deep rings are tiny next to the model.
   auto fetch = [ring](int index) { return Vec3d(ring[3 * index], ring[3 * index + 1], ring[3 * index + 2]); };
   Vec3d g[16];
-  innermostBezier<Vec3d>(rules, step.sector, fetch, g);
+  innermostBezier<Vec3d>(rules, step.sector, fetch, g, &ringLevels_[step.ring][step.level].limit);
   for (Vec3d& p : g) p += Vec3d(rings.centers[step.ring]);
   const PatchDomain& sectorDomain = rings.sectorDomains[rings.sectorOffsets[step.ring] + step.sector];
   NodeFit fit;
   fit.g = orientNet(g, rootSquareOf(sectorDomain).orientation);
   for (int c = 0; c < 4; ++c) fit.corners[c] = fit.g[kCornerIndex[c]];
-  fit.r = standInBound(rings, step.ring, ring, step.level) * (1 + 1e-5) + 1e-6 * floor_;
+  fit.r = ringLevels_[step.ring][step.level].bound * (1 + 1e-5) + 1e-6 * floor_;
   return fit;
 }
 
@@ -306,20 +345,9 @@ NodeFit TreeBuilder::fitChildren(const NodeFit children[4]) const {
 void TreeBuilder::setBox(uint32_t index, const ChainStep* step) {
   SurfaceNode& node = tree_.nodes[index];
   if (step != nullptr) {
-    const RingSet& rings = patches_.rings;
-    const float* ring = tree_.ringAtLevel(rings, step->ring, step->level);
-    const Vec3 c = rings.centers[step->ring];
-    for (int a = 0; a < 3; ++a) node.boxMin[a] = node.boxMax[a] = ring[a] + c[a];
-    for (int p = 0; p < rings.shapes[step->ring].ringPointCount(); ++p) {
-      for (int a = 0; a < 3; ++a) {
-        const float x = ring[3 * p + a] + c[a];
-        node.boxMin[a] = std::min(node.boxMin[a], x), node.boxMax[a] = std::max(node.boxMax[a], x);
-      }
-    }
-    for (int a = 0; a < 3; ++a) {
-      node.boxMin[a] = std::nextafter(node.boxMin[a], -kInfinity);
-      node.boxMax[a] = std::nextafter(node.boxMax[a], kInfinity);
-    }
+    const RingLevel& shared = ringLevels_[step->ring][step->level];
+    std::copy(shared.boxMin, shared.boxMin + 3, node.boxMin);
+    std::copy(shared.boxMax, shared.boxMax + 3, node.boxMax);
     return;
   }
   for (int q = 0; q < 4; ++q) {
