@@ -4,10 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <grpcpp/generic/generic_stub.h>
-
 #include <functional>
-#include <future>
 #include <limits>
 #include <thread>
 
@@ -502,21 +499,12 @@ TEST_F(BadInputCatalogue, DeadlinesAndCancellationEndUploadsWithoutATrace) {
 // Bytes a handler never sees because they are not its request message (a broken protobuf, a
 // string that is not UTF-8): INVALID_ARGUMENT naming the method, not gRPC's bare INTERNAL.
 TEST_F(BadInputCatalogue, UnparsableRequestsAreInvalidArgumentsNamingTheMethod) {
-  grpc::GenericStub stub(server_->channel());
   const std::vector<std::pair<std::string, std::string>> requests = {
       {"a broken protobuf", std::string("\xff\xff\xff\xff", 4)},
       {"a name that is not UTF-8", std::string("\x0a\x02\xc3\x28", 4)},
   };
   for (const auto& [what, bytes] : requests) {
-    grpc::ClientContext context;
-    prepare(context, kToken);
-    grpc::Slice slice(bytes);
-    const grpc::ByteBuffer request(&slice, 1);
-    grpc::ByteBuffer response;
-    std::promise<grpc::Status> done;
-    stub.UnaryCall(&context, "/tessera.v1.MeshService/GetMesh", {}, &request, &response,
-                   [&done](grpc::Status status) { done.set_value(std::move(status)); });
-    const grpc::Status status = done.get_future().get();
+    const grpc::Status status = rawUnaryCall(server_->channel(), "/tessera.v1.MeshService/GetMesh", bytes, kToken);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << what << ": " << status.error_message();
     EXPECT_NE(status.error_message().find("/tessera.v1.MeshService/GetMesh"), std::string::npos)
         << what << ": " << status.error_message();

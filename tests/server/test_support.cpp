@@ -1,6 +1,7 @@
 #include "tests/server/test_support.h"
 
 #include <arpa/inet.h>
+#include <grpcpp/generic/generic_stub.h>
 #include <fmt/format.h>
 #include <libpq-fe.h>
 #include <netdb.h>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <future>
 #include <sstream>
 
 namespace tessera::test {
@@ -339,6 +341,25 @@ std::pair<int, std::string> failedStart(const std::filesystem::path& dir, const 
                         "--metrics-listen off " + args + " > " + out.string() + " 2>&1";
   int status = std::system(command.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(out)};
+}
+
+grpc::Status rawUnaryCall(const std::shared_ptr<grpc::Channel>& channel, const std::string& method,
+                          const std::string& request, const std::string& token, std::string* answer) {
+  grpc::GenericStub stub(channel);
+  grpc::ClientContext context;
+  prepare(context, token);
+  grpc::Slice slice(request);
+  const grpc::ByteBuffer send(&slice, 1);
+  grpc::ByteBuffer received;
+  std::promise<grpc::Status> done;
+  stub.UnaryCall(&context, method, {}, &send, &received, [&done](grpc::Status status) { done.set_value(std::move(status)); });
+  const grpc::Status status = done.get_future().get();
+  std::vector<grpc::Slice> slices;
+  if (answer != nullptr && status.ok() && received.Dump(&slices).ok()) {
+    answer->clear();
+    for (const grpc::Slice& part : slices) answer->append(reinterpret_cast<const char*>(part.begin()), part.size());
+  }
+  return status;
 }
 
 }  // namespace tessera::test

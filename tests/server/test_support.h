@@ -67,6 +67,11 @@ struct MeshArrays {
 };
 
 std::string readFile(const std::filesystem::path& path);
+// A unary call of `method` ("/package.Service/Method") with `request` as its raw message bytes,
+// for requests the generated stubs cannot make (hand-encoded or broken messages, unknown
+// methods); the answer's bytes go to `answer` when given.
+grpc::Status rawUnaryCall(const std::shared_ptr<grpc::Channel>& channel, const std::string& method,
+                          const std::string& request, const std::string& token = {}, std::string* answer = nullptr);
 // Runs the server with args expecting it to refuse to start; returns its exit status and output.
 std::pair<int, std::string> failedStart(const std::filesystem::path& dir, const std::string& args);
 std::filesystem::path modelPath(const std::string& name);
