@@ -14,15 +14,6 @@ int ringPieceCount(const RingSet& rings, size_t r, int depth) {
   return sectors * (kPatchesPerSector * depth + 1);
 }
 
-void innermostNet(const RingRules& rules, int sector, const float* innermost, Vec3 center,
-                  Vec3 out[16]) {
-  auto fetch = [innermost](int index) {
-    return Vec3(innermost[3 * index], innermost[3 * index + 1], innermost[3 * index + 2]);
-  };
-  innermostBezier<Vec3>(rules, sector, fetch, out);
-  for (int k = 0; k < 16; ++k) out[k] += center;
-}
-
 void emitRingPieces(const RingSet& rings, size_t r, int depth, RingPieces& pieces) {
   const cer::RingShape& shape = rings.shapes[r];
   const PatchDomain* sectorDomains = rings.sectorDomains.data() + rings.sectorOffsets[r];

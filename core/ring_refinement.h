@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/fas_rules.h"
+#include "core/innermost_patch.h"
 #include "core/patch_set.h"
 #include "core/ring_patches.h"
 
@@ -75,10 +76,25 @@ const float* forEachRingPatch(const RingSet& rings, size_t r, int depth, RingWal
 // level, then one innermost piece per owned sector.
 int ringPieceCount(const RingSet& rings, size_t r, int depth);
 
-// The innermost Bézier net of `sector` (ACC-1, innermost_patch.h) in absolute positions, from the
-// innermost ring forEachRingPatch returned (relative to `center`).
-void innermostNet(const RingRules& rules, int sector, const float* innermost, Vec3 center,
-                  Vec3 out[16]);
+// The innermost Bézier net (ACC-1, innermost_patch.h) of every owned sector, in sector order and
+// absolute positions, from the innermost ring forEachRingPatch returned (relative to `center`):
+// visit(sector, net). The EV's limit point, which every net shares and which costs O(valence),
+// is computed once for the ring, not once per sector.
+template <typename Visit>
+void forEachInnermostNet(const RingRules& rules, const float* innermost, Vec3 center, const uint8_t* owned,
+                         Visit visit) {
+  auto fetch = [innermost](int index) {
+    return Vec3(innermost[3 * index], innermost[3 * index + 1], innermost[3 * index + 2]);
+  };
+  const Vec3 limit = extraordinaryLimit<Vec3>(rules, fetch);
+  for (int sector = 0; sector < rules.shape.sectors; ++sector) {
+    if (!owned[sector]) continue;
+    Vec3 net[16];
+    innermostBezier<Vec3>(rules, sector, fetch, net, &limit);
+    for (Vec3& p : net) p += center;
+    visit(sector, net);
+  }
+}
 
 // Refines ring r to `depth` (>= 0) and appends its pieces to `pieces`.
 void emitRingPieces(const RingSet& rings, size_t r, int depth, RingPieces& pieces);

@@ -115,12 +115,8 @@ DepthEstimate singlePhaseDepth(const RingSet& rings, size_t r, double epsilon) {
   for (int depth = 0;; ++depth) {
     const double approximation = boundAtDepth(rules, rings.ringPoints(r), depth);
     double flat = 0;
-    for (int i = 0; i < rules.shape.sectors; ++i) {
-      if (!owned[i]) continue;
-      Vec3 net[16];
-      innermostNet(rules, i, ring.data(), Vec3(), net);
-      flat = std::max(flat, curvatureBound(net) / 8);
-    }
+    forEachInnermostNet(rules, ring.data(), Vec3(), owned,
+                        [&flat](int, const Vec3* net) { flat = std::max(flat, curvatureBound(net) / 8); });
     if (approximation + flat <= epsilon || depth == kMaxTableDepth) return {depth, approximation};
     refineRingStep<3>(rules, ring.data(), refined.data());
     std::copy(refined.begin(), refined.begin() + ringFloats, ring.begin());
@@ -171,10 +167,9 @@ void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
         planExactPiece(*out++, net, domain, PieceKind::kFas, rings.levels[r] + level, planning);
       });
   const double size = std::ldexp(1.0, -layout.depth);
-  for (int i = 0; i < shape.sectors; ++i) {
-    if (!owned[i]) continue;
+  forEachInnermostNet(rules, innermost, center, owned, [&](int i, const Vec3* net) {
     BezierPiece& piece = *out++;
-    innermostNet(rules, i, innermost, center, piece.bezier.data());
+    std::copy(net, net + 16, piece.bezier.data());
     piece.domain = sectorDomains[i].restrict(0, 0, size);
     piece.kind = PieceKind::kInnermost;
     piece.depth = static_cast<uint8_t>(rings.levels[r] + layout.depth);
@@ -183,12 +178,12 @@ void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
     double pieceEpsilon = planning.tolerance.forPoints(piece.bezier.data(), 16);
     if (planning.options.eta == 0 && planning.options.uniformLevel == 0) {
       assignTrianglePair(piece, pieceEpsilon);
-      continue;
+      return;
     }
     double epsilon =
         std::max(pieceEpsilon - layout.bound, (1 - planning.options.eta) * pieceEpsilon);
     assignLevel(piece, planning, epsilon);
-  }
+  });
   evNormal = Vec3d();
   if (rules.evRule != EvRule::kSmooth || shape.sectors == 2) return;
   for (int s = 0; s < shape.spokeCount(); ++s) {

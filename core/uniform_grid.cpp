@@ -249,11 +249,10 @@ void planRing(const RingSet& rings, size_t r, int p, RingWalkScratch& scratch,
   const RingRules rules = rings.rules(r);
   const uint8_t* owned = rings.sectorOwned.data() + rings.sectorOffsets[r];
   const auto innermostLevel = uint16_t(uniformPieceLevel(p, ringLevel + depth));
-  for (int i = 0; i < rules.shape.sectors; ++i) {
-    if (!owned[i]) continue;
-    innermostNet(rules, i, innermost, rings.centers[r], (nets++)->data());
+  forEachInnermostNet(rules, innermost, rings.centers[r], owned, [&](int, const Vec3* net) {
+    std::copy(net, net + 16, (nets++)->data());
     *pieces++ = {innermostLevel, NetBasis::kBezier};
-  }
+  });
 }
 
 // Two passes over fixed chunks: sample counts and chunk totals, then the running sums.
