@@ -3,13 +3,16 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include "core/axis_reparameterization.h"
 #include "core/bicubic.h"
 #include "core/depth_tables.h"
 #include "core/depth_bound.h"
+#include "core/dyadic.h"
 #include "core/error.h"
 #include "core/fas.h"
 #include "core/innermost_patch.h"
@@ -96,8 +99,11 @@ class TreeBuilder {
     uint32_t node;
     int level;
     uint64_t ix, iy;
+    AxisMap u, v;  // the reparameterization of the geometric pair bound (§3a)
   };
   void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
+  void gatherAxisSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
+                         AxisMapBuilder& u, AxisMapBuilder& v) const;
   void leafAgainstAncestors(const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
                             const std::vector<Ancestor>& path);
   BezierNet leafNet(const SurfaceNode& node) const;
@@ -111,8 +117,8 @@ class TreeBuilder {
   // While building: each node's exact corner values, and the direct pair bounds and side bows
   // gathered leaf by leaf (docs/ADAPTIVE.md §3).
   std::vector<std::array<Vec3d, 4>> corners_;
-  std::vector<double> pair_;
-  std::vector<std::array<double, 4>> bow_;
+  std::vector<double> pair_, pairReparam_;
+  std::vector<std::array<double, 4>> bow_, bowReparam_;
   double floor_ = 0;
   // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
   // O(ring size) to compute, so computed once (a valence-n ring has n sectors): the stand-in
@@ -423,9 +429,11 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
 
 // A leaf's deviation from each ancestor's bilinear interpolant B (restricted to the leaf, B is the
 // bilinear of its values at the leaf's corners), and along the ancestor's sides the leaf touches,
-// from the ancestor's chords. First a cheap bound: the leaf's deviation from its own bilinear
-// plus the largest gap between the two bilinears, at a leaf corner (their difference is
-// bilinear); the de Casteljau bound only where the cheap one could raise the maximum.
+// from the ancestor's chords; and the same through the ancestor's axis maps (§3a: B at the
+// preimages of the leaf's corners, the leaf's own net unchanged). First a cheap bound: the
+// leaf's deviation from its own bilinear plus the largest gap between the two bilinears, at a
+// leaf corner (their difference is bilinear); the de Casteljau bound only where the cheap one
+// could raise the maximum.
 void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
                                        const std::vector<Ancestor>& path) {
   Vec3d own[4];
@@ -442,30 +450,64 @@ void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level
     const int d = level - a.level;
     const double scale = std::ldexp(1.0, -d);
     const double x0 = double(ix - (a.ix << d)) * scale, y0 = double(iy - (a.iy << d)) * scale;
-    auto bilinear = [&c](double x, double y) {
-      return c[0] * ((1 - x) * (1 - y)) + c[1] * (x * (1 - y)) + c[2] * (x * y) + c[3] * ((1 - x) * y);
-    };
-    Vec3d leafCorners[4];
-    double gap[4];
-    const double cx[4] = {x0, x0 + scale, x0 + scale, x0}, cy[4] = {y0, y0, y0 + scale, y0 + scale};
-    for (int k = 0; k < 4; ++k) {
-      leafCorners[k] = bilinear(cx[k], cy[k]);
-      gap[k] = length(own[k] - leafCorners[k]);
-    }
-    const double cheap = ownPair + *std::max_element(gap, gap + 4);
-    if (cheap > pair_[a.node]) {
-      pair_[a.node] = std::max(pair_[a.node], std::min(cheap, r + splitNetDistance(net, bilinearNet(leafCorners))));
-    }
     const bool touches[4] = {y0 == 0, x0 + scale == 1, y0 + scale == 1, x0 == 0};
-    for (int side = 0; side < 4; ++side) {
-      if (!touches[side]) continue;
-      int from, to;
-      sideCorners(side, from, to);
-      const double cheapBow = ownBow[side] + std::max(gap[from], gap[to]);
-      if (cheapBow <= bow_[a.node][side]) continue;
-      const double bow = r + sideChordDistance(net, side, leafCorners[from], leafCorners[to]);
-      bow_[a.node][side] = std::max(bow_[a.node][side], std::min(cheapBow, bow));
+    // The leaf against B at the same parameters, or against B at the preimage of its corners.
+    auto against = [&](double u0, double u1, double v0, double v1, double& pair, std::array<double, 4>& bows) {
+      auto bilinear = [&c](double x, double y) {
+        return c[0] * ((1 - x) * (1 - y)) + c[1] * (x * (1 - y)) + c[2] * (x * y) + c[3] * ((1 - x) * y);
+      };
+      Vec3d leafCorners[4];
+      double gap[4];
+      const double cx[4] = {u0, u1, u1, u0}, cy[4] = {v0, v0, v1, v1};
+      for (int k = 0; k < 4; ++k) {
+        leafCorners[k] = bilinear(cx[k], cy[k]);
+        gap[k] = length(own[k] - leafCorners[k]);
+      }
+      const double cheap = ownPair + *std::max_element(gap, gap + 4);
+      if (cheap > pair) pair = std::max(pair, std::min(cheap, r + splitNetDistance(net, bilinearNet(leafCorners))));
+      for (int side = 0; side < 4; ++side) {
+        if (!touches[side]) continue;
+        int from, to;
+        sideCorners(side, from, to);
+        const double cheapBow = ownBow[side] + std::max(gap[from], gap[to]);
+        if (cheapBow <= bows[side]) continue;
+        const double bow = r + sideChordDistance(net, side, leafCorners[from], leafCorners[to]);
+        bows[side] = std::max(bows[side], std::min(cheapBow, bow));
+      }
+    };
+    against(x0, x0 + scale, y0, y0 + scale, pair_[a.node], bow_[a.node]);
+    if (!a.u.isIdentity() || !a.v.isIdentity()) {
+      against(a.u.preimage(x0), a.u.preimage(x0 + scale), a.v.preimage(y0), a.v.preimage(y0 + scale),
+              pairReparam_[a.node], bowReparam_[a.node]);
     }
+  }
+}
+
+// The samples that pick a node's axis maps: its pieces' spans and, at their corners, where the
+// surface projects onto the node's bilinear B across each axis. log2(kCells) levels down, every
+// corner of a subtree that can sit on a breakpoint (a multiple of 1/kCells) is the subtree's
+// own, so the walk stops there.
+void TreeBuilder::gatherAxisSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
+                                    AxisMapBuilder& u, AxisMapBuilder& v) const {
+  const SurfaceNode& node = tree_.nodes[index];
+  constexpr int kSampleDepth = std::countr_zero(unsigned(AxisMap::kCells));
+  if (!node.isLeaf() && depth < kSampleDepth) {
+    for (int q = 0; q < 4; ++q) {
+      gatherAxisSamples(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), c, u, v);
+    }
+    return;
+  }
+  const double size = exp2i(-depth), x0 = double(ix) * size, y0 = double(iy) * size;
+  u.addPiece(x0, x0 + size);
+  v.addPiece(y0, y0 + size);
+  const double cx[4] = {x0, x0 + size, x0 + size, x0}, cy[4] = {y0, y0, y0 + size, y0 + size};
+  for (int k = 0; k < 4; ++k) {
+    const Vec3d& f = corners_[index][k];
+    const Vec3d a = c[0] * (1 - cy[k]) + c[3] * cy[k], b = c[1] * (1 - cy[k]) + c[2] * cy[k];
+    const Vec3d p = c[0] * (1 - cx[k]) + c[1] * cx[k], q = c[3] * (1 - cx[k]) + c[2] * cx[k];
+    const double across = dot(b - a, b - a), along = dot(q - p, q - p);
+    if (across > 0) u.addSample(cx[k], dot(f - a, b - a) / across);
+    if (along > 0) v.addSample(cy[k], dot(f - p, q - p) / along);
   }
 }
 
@@ -482,7 +524,12 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
     }
     return;
   }
-  path.push_back({index, level, ix, iy});
+  {
+    AxisMapBuilder u, v;
+    gatherAxisSamples(index, 0, 0, 0, corners_[index], u, v);
+    path.push_back({index, level, ix, iy, u.build(), v.build()});
+  }
+  const bool reparam = !path.back().u.isIdentity() || !path.back().v.isIdentity();
   for (int q = 0; q < 4; ++q) {
     directPairBounds(node.firstChild + q, level + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), path);
   }
@@ -491,9 +538,17 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   SurfaceNode& self = tree_.nodes[index];
   const std::array<Vec3d, 4>& c = corners_[index];
   const double twist = length(c[0] - c[1] + c[2] - c[3]) / 4;
-  self.pairBound = std::min(self.pairBound, roundUp((pair_[index] + twist) * (1 + 1e-9)));
+  // The geometric bound (§3a) serves when its pair and every bow are no larger: a tile takes
+  // its pair bound and bows from one parameterization.
+  double pair = pair_[index];
+  std::array<double, 4> bow = bow_[index];
+  if (reparam && pairReparam_[index] < pair) {
+    pair = pairReparam_[index];
+    for (int side = 0; side < 4; ++side) bow[side] = bowReparam_[index][side];
+  }
+  self.pairBound = std::min(self.pairBound, roundUp((pair + twist) * (1 + 1e-9)));
   for (int side = 0; side < 4; ++side) {
-    self.sideBow[side] = std::min(self.sideBow[side], roundUp(bow_[index][side] * (1 + 1e-9)));
+    self.sideBow[side] = std::min(self.sideBow[side], roundUp(bow[side] * (1 + 1e-9)));
   }
 }
 
@@ -514,6 +569,8 @@ SurfaceTree TreeBuilder::build() {
   corners_.resize(tree_.nodes.size());
   pair_.assign(tree_.nodes.size(), 0);
   bow_.assign(tree_.nodes.size(), {0, 0, 0, 0});
+  pairReparam_.assign(tree_.nodes.size(), 0);
+  bowReparam_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   // Roots are independent: every slot they write was allocated above.
   tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
     const uint32_t root = tree_.roots[r].node;

@@ -38,9 +38,10 @@ struct SurfaceNode {
   // curvature (root units). Exact pieces are their own stand-ins (bound 0).
   float standInBound = 0;
   float standInCurvature[3] = {0, 0, 0};
-  // The triangle pair through the node's corners: sup ‖f − L‖ ≤ pairBound for either diagonal;
-  // sideBow[k]: sup ‖f − chord‖ along side k (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0), what
-  // points added on that side can move the pair's interpolant (docs/ADAPTIVE.md §3).
+  // The triangle pair through the node's corners: sup ‖f ∘ φ − L‖ ≤ pairBound for either
+  // diagonal; sideBow[k]: sup ‖f ∘ φ − chord‖ along side k (0: v = 0, 1: u = 1, 2: v = 1,
+  // 3: u = 0), what points added on that side can move the pair's interpolant. φ is the identity
+  // or the node's per-axis map, so both bound the geometric distance (docs/ADAPTIVE.md §3, §3a).
   float pairBound = 0;
   float sideBow[4] = {0, 0, 0, 0};
   float boxMin[3] = {0, 0, 0}, boxMax[3] = {0, 0, 0};

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "core/adaptive_surface.h"
+#include "core/surface_tree.h"
 #include "core/adaptive_tessellator.h"
 #include "core/domain_keys.h"
 #include "core/obj_reader.h"
@@ -16,6 +17,8 @@
 #include "core/tessellate.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/limit_distance.h"
+#include "tests/support/limit_projection.h"
+#include "tests/support/triangle_bvh.h"
 #include "tests/support/models.h"
 
 namespace tessera {
@@ -216,6 +219,60 @@ TEST(AdaptiveTessellation, AFlatFaceIsTwoTriangles) {
       EXPECT_EQ(triangles[f], 2) << "face " << f;
     }
   }
+}
+
+// The pair bound of a node (docs/ADAPTIVE.md §3a) is geometric: on the rook, whose semi-sharp
+// creases parameterize the faces beside them very unevenly, the triangle pair through a root's
+// corners (either diagonal) is within its pairBound of the limit surface both ways, measured
+// here on a 17 × 17 grid: surface samples against the pair (closest points), pair samples
+// projected onto the surface from the same parameters; and on some roots the distance at equal
+// parameters exceeds the bound, so the bound is not the parametric one.
+TEST(AdaptiveTessellation, PairBoundIsGeometric) {
+  constexpr int kGrid = 16;
+  constexpr double kReferenceAccuracy = 5e-6;
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  const testing::LimitSurface surface(mesh);
+  const SurfaceTree& tree = set.adaptive->tree;
+  const double slack = kReferenceAccuracy * surface.diagonal();
+  int tighterThanParametric = 0;
+  for (const SurfaceRoot& root : tree.roots) {
+    if (root.node == kNoNode || tree.nodes[root.node].evCorners != 0) continue;
+    const int domain = surface.domainOf(root.baseFace, root.subFace);
+    auto at = [&](double u, double v) {
+      Vec3d p;
+      surface.evaluate(domain, u, v, p);
+      return p;
+    };
+    const Vec3d c[4] = {at(0, 0), at(1, 0), at(1, 1), at(0, 1)};
+    const double bound = tree.nodes[root.node].pairBound;
+    double parametric = 0;
+    for (int diagonal = 0; diagonal < 2; ++diagonal) {
+      // Triangles (c0, c1, c2), (c0, c2, c3) or (c0, c1, c3), (c1, c2, c3), as functions of (u, v).
+      auto pair = [&](double u, double v) {
+        if (diagonal == 0) return u >= v ? c[0] + (c[1] - c[0]) * u + (c[2] - c[1]) * v : c[0] + (c[2] - c[3]) * u + (c[3] - c[0]) * v;
+        return u + v <= 1 ? c[0] + (c[1] - c[0]) * u + (c[3] - c[0]) * v : c[2] + (c[2] - c[3]) * (u - 1) + (c[2] - c[1]) * (v - 1);
+      };
+      const Vec3d t[2][3] = {{c[0], c[1], diagonal == 0 ? c[2] : c[3]}, {diagonal == 0 ? c[0] : c[1], c[2], c[3]}};
+      for (int i = 0; i <= kGrid; ++i) {
+        for (int j = 0; j <= kGrid; ++j) {
+          const double u = double(i) / kGrid, v = double(j) / kGrid;
+          const Vec3d f = at(u, v), l = pair(u, v);
+          parametric = std::max(parametric, length(f - l));
+          const double toPair = std::min(length(f - testing::closestPointOnTriangle(f, t[0][0], t[0][1], t[0][2])),
+                                         length(f - testing::closestPointOnTriangle(f, t[1][0], t[1][1], t[1][2])));
+          const testing::LimitPoint foot = testing::projectInDomain(surface, l, domain, u, v, 1e-9 * surface.diagonal());
+          const double toSurface = std::min(foot.distance, length(f - l));
+          EXPECT_LE(toPair, bound + slack) << "face " << root.baseFace << " at (" << u << ", " << v << ")";
+          EXPECT_LE(toSurface, bound + slack) << "face " << root.baseFace << " at (" << u << ", " << v << ")";
+        }
+      }
+    }
+    tighterThanParametric += parametric > bound + slack;
+  }
+  EXPECT_GT(tighterThanParametric, 0);
+  std::printf("rook: %d roots whose pair is farther from the surface at equal parameters than its bound\n",
+              tighterThanParametric);
 }
 
 // A coarse request is answered from coarse nodes: it must not touch every fine piece, so it costs
