@@ -42,7 +42,7 @@ double degreesBetween(const Vec3d& a, const Vec3d& b) {
 // of its own), is within ε up to the reference's own accuracy (Bfr at level 10 agrees with level
 // 12 within 3e-6 of the diagonal on these models).
 TEST(AdaptiveTessellation, MeasuredTwoSidedDistanceIsWithinTolerance) {
-  constexpr double kReferenceAccuracy = 5e-6;
+  constexpr double kReferenceAccuracy = testing::LimitSurface::kRelativeAccuracy;
   std::vector<std::string> paths = testing::benchmarkCharacters();
   for (const char* name : {"catmark_bishop", "catmark_rook", "catmark_cubes_semisharp", "catmark_torus_creases0"}) {
     paths.push_back(testing::modelsDir() + "/opensubdiv-shapes/" + name + ".obj");
@@ -229,12 +229,11 @@ TEST(AdaptiveTessellation, AFlatFaceIsTwoTriangles) {
 // parameters exceeds the bound, so the bound is not the parametric one.
 TEST(AdaptiveTessellation, PairBoundIsGeometric) {
   constexpr int kGrid = 16;
-  constexpr double kReferenceAccuracy = 5e-6;
   const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj");
   const PatchSet set = buildPatchSet(mesh);
   const testing::LimitSurface surface(mesh);
   const SurfaceTree& tree = set.adaptive->tree;
-  const double slack = kReferenceAccuracy * surface.diagonal();
+  const double slack = testing::LimitSurface::kRelativeAccuracy * surface.diagonal();
   int tighterThanParametric = 0;
   for (const SurfaceRoot& root : tree.roots) {
     if (root.node == kNoNode || tree.nodes[root.node].evCorners != 0) continue;

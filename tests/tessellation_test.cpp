@@ -169,7 +169,7 @@ bool hasBoundary(const ControlMesh& mesh) {
 template <typename Reference>
 void expectWithinToleranceAndWatertight(const std::string& path, const ControlMesh& mesh,
                                         Reference& reference, double eta) {
-  constexpr double kReferenceAccuracy = 5e-6;  // of the diagonal: Bfr at level 10 against 12
+  constexpr double kReferenceAccuracy = testing::LimitSurface::kRelativeAccuracy;
   PatchSet set = buildPatchSet(mesh);
   const double diagonal = diagonalOf(set);
   std::optional<testing::LimitSurface> surface;

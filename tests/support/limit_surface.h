@@ -41,6 +41,9 @@ class LimitSurface {
   // vertices, and by 7e-4 (rook) to 1.6e-3 (bishop) where semi-sharp creases of sharpness above
   // 6 meet; at 10 it agrees with level 12 within 3e-6 on the benchmark models.
   static constexpr int kApproxLevel = 10;
+  // What a distance measured against it may be off by, as a fraction of the diagonal (level 10
+  // against level 12 on the benchmark models, 3e-6, rounded up).
+  static constexpr double kRelativeAccuracy = 5e-6;
 
   // Chooses Far when the mesh has an interior valence-2 vertex, else Bfr.
   explicit LimitSurface(const ControlMesh& mesh);
