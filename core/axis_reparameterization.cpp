@@ -26,9 +26,7 @@ double AxisMap::preimage(double x) const {
 
 void AxisMapBuilder::addPiece(double x0, double x1) {
   const double a = x0 * AxisMap::kCells, b = x1 * AxisMap::kCells;
-  for (int m = int(std::floor(a)) + 1; m < b && m < AxisMap::kCells; ++m) {
-    if (m > 0) spanned_ |= uint64_t(1) << m;
-  }
+  for (int m = int(std::floor(a)) + 1; m < b && m < AxisMap::kCells; ++m) spanned_ |= uint64_t(1) << m;
 }
 
 void AxisMapBuilder::addSample(double x, double t) {

@@ -14,7 +14,7 @@ namespace tessera {
 // consecutive breakpoints, and so is α⁻¹). The identity unless the builder found breakpoints.
 class AxisMap {
  public:
-  static constexpr int kCells = 16;
+  static constexpr int kCells = 16;  // at most 64: AxisMapBuilder keeps one bit per breakpoint
 
   AxisMap();
   // The preimage of x ∈ [0, 1]; exact at breakpoints, affine between them.
@@ -28,8 +28,8 @@ class AxisMap {
   bool identity_ = true;
 };
 
-// Gathers what picks α: which multiples of 1/kCells a piece spans (they cannot be breakpoints), and
-// at the others, where the surface there projects onto the node's bilinear (the tangential
+// Gathers what picks α: which multiples of 1/kCells a piece spans (they cannot be breakpoints),
+// and at the others, where the surface there projects onto the node's bilinear (the tangential
 // position the triangles would give it). α then sends each breakpoint's mean projection to it.
 class AxisMapBuilder {
  public:

@@ -56,8 +56,7 @@ BezierNet bilinearNet(const Vec3d corners[4]) {
     const double y = row / 3.0;
     for (int col = 0; col < 4; ++col) {
       const double x = col / 3.0;
-      out[4 * row + col] = corners[0] * ((1 - x) * (1 - y)) + corners[1] * (x * (1 - y)) +
-                           corners[2] * (x * y) + corners[3] * ((1 - x) * y);
+      out[4 * row + col] = bilinearAt(corners, x, y);
     }
   }
   return out;

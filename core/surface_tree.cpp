@@ -453,14 +453,11 @@ void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level
     const bool touches[4] = {y0 == 0, x0 + scale == 1, y0 + scale == 1, x0 == 0};
     // The leaf against B at the same parameters, or against B at the preimage of its corners.
     auto against = [&](double u0, double u1, double v0, double v1, double& pair, std::array<double, 4>& bows) {
-      auto bilinear = [&c](double x, double y) {
-        return c[0] * ((1 - x) * (1 - y)) + c[1] * (x * (1 - y)) + c[2] * (x * y) + c[3] * ((1 - x) * y);
-      };
       Vec3d leafCorners[4];
       double gap[4];
       const double cx[4] = {u0, u1, u1, u0}, cy[4] = {v0, v0, v1, v1};
       for (int k = 0; k < 4; ++k) {
-        leafCorners[k] = bilinear(cx[k], cy[k]);
+        leafCorners[k] = bilinearAt(c.data(), cx[k], cy[k]);
         gap[k] = length(own[k] - leafCorners[k]);
       }
       const double cheap = ownPair + *std::max_element(gap, gap + 4);
@@ -503,8 +500,9 @@ void TreeBuilder::gatherAxisSamples(uint32_t index, int depth, uint64_t ix, uint
   const double cx[4] = {x0, x0 + size, x0 + size, x0}, cy[4] = {y0, y0, y0 + size, y0 + size};
   for (int k = 0; k < 4; ++k) {
     const Vec3d& f = corners_[index][k];
-    const Vec3d a = c[0] * (1 - cy[k]) + c[3] * cy[k], b = c[1] * (1 - cy[k]) + c[2] * cy[k];
-    const Vec3d p = c[0] * (1 - cx[k]) + c[1] * cx[k], q = c[3] * (1 - cx[k]) + c[2] * cx[k];
+    // B's lines through the corner: across u (from u = 0 to 1) and across v.
+    const Vec3d a = bilinearAt(c.data(), 0, cy[k]), b = bilinearAt(c.data(), 1, cy[k]);
+    const Vec3d p = bilinearAt(c.data(), cx[k], 0), q = bilinearAt(c.data(), cx[k], 1);
     const double across = dot(b - a, b - a), along = dot(q - p, q - p);
     if (across > 0) u.addSample(cx[k], dot(f - a, b - a) / across);
     if (along > 0) v.addSample(cy[k], dot(f - p, q - p) / along);
