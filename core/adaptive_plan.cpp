@@ -30,6 +30,7 @@ struct Rates {
   int ru = 1, rv = 1;
   double bound = kInfinity;
   bool optimistic = false;  // a (1, 1) pair whose sides must stay free of points beside the corners
+  uint8_t diagonal = 0;     // a (1, 1) pair bound that holds along this diagonal only (Tile::diagonal)
   bool feasible() const { return bound < kInfinity; }
   int64_t triangles() const { return 2 * int64_t(ru) * rv; }
 };
@@ -128,6 +129,7 @@ class Planner {
     Curvature gm;
     double pair = 0;     // the (1, 1) grid's bound with no points on its sides but its corners
     double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
+    uint8_t diagonal = 0;  // the diagonal pair and bows need (SurfaceNode::pairDiagonal)
     bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
     float lo[3], hi[3];
     double pairWithBows() const { return pair + *std::max_element(bows, bows + 4); }
@@ -170,6 +172,7 @@ Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
   c.gm = node.standInCurvatureBound();
   c.pair = node.pairBound;
   std::copy(node.sideBow, node.sideBow + 4, c.bows);
+  c.diagonal = node.pairDiagonal;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
   return c;
@@ -312,10 +315,10 @@ Rates Planner::gridFor(Candidate& c) const {
   const double epsilon = epsilonOf(c);
   const int minRate = touchesPinchedCorner(c) ? 2 : 1;
   if (minRate == 1 && pairMayServe(c, epsilon)) {
-    if (c.pairWithBows() <= epsilon) return {1, 1, c.pairWithBows()};
+    if (c.pairWithBows() <= epsilon) return {1, 1, c.pairWithBows(), false, c.diagonal};
     // Whether the sides get points beside the corners is known only once the seams are stitched:
     // the pair alone, to be checked then (adaptive_tessellator.h).
-    if (!conservative_) return {1, 1, c.pair, true};
+    if (!conservative_) return {1, 1, c.pair, true, c.diagonal};
   }
   Rates best;
   auto consider = [&best](const Rates& r) {
@@ -345,6 +348,7 @@ void Planner::emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   tile.ru = grid.ru, tile.rv = grid.rv;
   tile.bound = float(grid.bound);
   tile.tolerance = float(epsilonOf(c));
+  tile.diagonal = grid.diagonal;
   if (grid.optimistic) {
     tile.pendingPair = true;
     for (int k = 0; k < 4; ++k) tile.sideBow[k] = float(c.bows[k]);
@@ -389,7 +393,7 @@ void Planner::mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>&
   for (size_t i = first; i < out.size(); ++i) {
     const Tile& t = out[i];
     const bool cells = (t.ru == 1 && t.rv == 1) || t.cellwise;
-    if (!cells || t.ru != head.ru || t.rv != head.rv || t.level != c.level + 1) return;
+    if (!cells || t.diagonal != head.diagonal || t.ru != head.ru || t.rv != head.rv || t.level != c.level + 1) return;
   }
   if (2 * head.ru > kMaxTileRate) return;
   Tile merged;
@@ -397,6 +401,7 @@ void Planner::mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>&
   merged.level = c.level, merged.ix = c.ix, merged.iy = c.iy;
   merged.ru = merged.rv = 2 * head.ru;
   merged.cellwise = true;
+  merged.diagonal = head.diagonal;
   merged.bound = 0, merged.tolerance = head.tolerance;
   for (size_t i = first; i < out.size(); ++i) {
     const Tile& t = out[i];

@@ -32,6 +32,10 @@ struct Tile {
   // is the largest of theirs, and when pending, "points beside its corners" means points beside
   // its own grid points (docs/ADAPTIVE.md §6).
   bool cellwise = false;
+  // A one-cell tile whose bound holds only split along one diagonal (SurfaceNode::pairDiagonal):
+  // 0 any, 1 + d diagonal d (0: corners 0–2, 1: corners 1–3); a cell-wise tile's cells all keep
+  // it (only tiles that agree are merged).
+  uint8_t diagonal = 0;
 
   double size() const { return exp2i(-level); }
 };

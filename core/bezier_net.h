@@ -139,8 +139,9 @@ inline double netDistance(const BezierNet& a, const BezierNet& b) {
 // Corners of a square: 0 = (0,0), 1 = (1,0), 2 = (1,1), 3 = (0,1); their net indices.
 inline constexpr int kCornerIndex[4] = {0, 3, 15, 12};
 
-// The bilinear interpolant of four corner values at (x, y) of their square.
-inline Vec3d bilinearAt(const Vec3d corners[4], double x, double y) {
+// The bilinear interpolant of four corner values (points or scalars) at (x, y) of their square.
+template <class T>
+T bilinearAt(const T corners[4], double x, double y) {
   return corners[0] * ((1 - x) * (1 - y)) + corners[1] * (x * (1 - y)) + corners[2] * (x * y) +
          corners[3] * ((1 - x) * y);
 }

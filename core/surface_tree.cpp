@@ -12,6 +12,7 @@
 #include "core/bicubic.h"
 #include "core/depth_tables.h"
 #include "core/depth_bound.h"
+#include "core/diagonal_pair_bound.h"
 #include "core/dyadic.h"
 #include "core/error.h"
 #include "core/fas.h"
@@ -39,6 +40,13 @@ RootSquare rootSquareOf(const PatchDomain& d) {
 namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
+// Nodes whose pair bound through the stand-in is below this many chain floors (10⁻⁵ of the
+// diagonal) keep it: finer than any tile at the tolerances asked for, they are many (the deep
+// levels of every EV chain) and the diagonal maps' bound is the costly one (§3b).
+constexpr double kDiagonalFloor = 100;
+// How many levels above a leaf its net is bounded against each ancestor's diagonal map; farther
+// up, the node kDiagonalReach + 1 levels below the ancestor stands for it (standForLeaves).
+constexpr int kDiagonalReach = 5;
 
 // Rounds a bound up to the next float, so that storing it in single precision keeps it a bound.
 float roundUp(double value) {
@@ -100,13 +108,19 @@ class TreeBuilder {
     int level;
     uint64_t ix, iy;
     AxisMap u, v;  // the reparameterization of the geometric pair bound (§3a)
+    DiagonalMap diagonal;  // the twist-free pair bound's (§3b)
+    bool useDiagonal;      // false: the node is finer than kDiagonalFloor, the identity serves
   };
   void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
   void gatherAxisSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
                          AxisMapBuilder& u, AxisMapBuilder& v) const;
-  void leafAgainstAncestors(const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
+  void gatherGridSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const;
+  DiagonalMap diagonalMap(uint32_t node) const;
+  void leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
                             const std::vector<Ancestor>& path);
+  void standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path);
   BezierNet leafNet(const SurfaceNode& node) const;
+  BezierNet netOrStandIn(const SurfaceNode& node, double& r) const;
 
   const PatchSet& patches_;
   const ControlMesh& mesh_;
@@ -119,6 +133,8 @@ class TreeBuilder {
   std::vector<std::array<Vec3d, 4>> corners_;
   std::vector<double> pair_, pairReparam_;
   std::vector<std::array<double, 4>> bow_, bowReparam_;
+  std::vector<double> pairDiagonal_;
+  std::vector<std::array<double, 4>> bowDiagonal_;
   double floor_ = 0;
   // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
   // O(ring size) to compute, so computed once (a valence-n ring has n sectors): the stand-in
@@ -294,6 +310,17 @@ BezierNet TreeBuilder::leafNet(const SurfaceNode& node) const {
   return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()));
 }
 
+// A leaf's net (r = 0), or an EV bottom's stand-in with its bound r.
+BezierNet TreeBuilder::netOrStandIn(const SurfaceNode& node, double& r) const {
+  r = 0;
+  if (node.kind != NodeKind::kEvBottom) return leafNet(node);
+  const EvBottom& bottom = tree_.evBottoms[node.payload];
+  BezierNet g;
+  for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
+  r = node.standInBound;
+  return g;
+}
+
 void setCurvature(float out[3], const Curvature& m) {
   out[0] = roundUp(m.uu), out[1] = roundUp(m.uv), out[2] = roundUp(m.vv);
 }
@@ -434,8 +461,8 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
 // leaf's deviation from its own bilinear plus the largest gap between the two bilinears, at a
 // leaf corner (their difference is bilinear); the de Casteljau bound only where the cheap one
 // could raise the maximum.
-void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
-                                       const std::vector<Ancestor>& path) {
+void TreeBuilder::leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix,
+                                       uint64_t iy, const std::vector<Ancestor>& path) {
   Vec3d own[4];
   for (int k = 0; k < 4; ++k) own[k] = net[kCornerIndex[k]];
   const double ownPair = r + splitNetDistance(net, bilinearNet(own));
@@ -445,6 +472,9 @@ void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level
     sideCorners(side, from, to);
     ownBow[side] = r + sideChordDistance(net, side, own[from], own[to]);
   }
+  // The leaf's own bounds, for the ancestor it stands for in the diagonal bound.
+  pair_[index] = ownPair;
+  std::copy(ownBow, ownBow + 4, bow_[index].begin());
   for (const Ancestor& a : path) {
     const std::array<Vec3d, 4>& c = corners_[a.node];
     const int d = level - a.level;
@@ -477,6 +507,10 @@ void TreeBuilder::leafAgainstAncestors(const BezierNet& net, double r, int level
       against(a.u.preimage(x0), a.u.preimage(x0 + scale), a.v.preimage(y0), a.v.preimage(y0 + scale),
               pairReparam_[a.node], bowReparam_[a.node]);
     }
+    const LeafOwn leaf{{own[0], own[1], own[2], own[3]}, x0, y0, scale, ownPair, {ownBow[0], ownBow[1], ownBow[2], ownBow[3]}};
+    if (!a.useDiagonal || d > kDiagonalReach) continue;
+    const LazyNet whole{nullptr, 0, true, net};
+    pieceAgainstDiagonal(&whole, r, leaf, x0, y0, scale, a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
   }
 }
 
@@ -509,45 +543,102 @@ void TreeBuilder::gatherAxisSamples(uint32_t index, int depth, uint64_t ix, uint
   }
 }
 
+// The surface at the grid points (i, j) / kCells of a node (index i + kPoints j) for its diagonal
+// maps: corners of its descendants kCells levels down, or points of a leaf above that.
+void TreeBuilder::gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const {
+  constexpr int kGridDepth = std::countr_zero(unsigned(DiagonalMap::kCells));
+  const SurfaceNode& node = tree_.nodes[index];
+  if (depth < kGridDepth && !node.isLeaf()) {
+    for (int q = 0; q < 4; ++q) {
+      gatherGridSamples(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), grid);
+    }
+    return;
+  }
+  const int span = DiagonalMap::kCells >> depth;  // grid cells along the node's side
+  const int i0 = int(ix) * span, j0 = int(iy) * span;
+  if (depth == kGridDepth) {
+    for (int c = 0; c < 4; ++c) grid[i0 + (c == 1 || c == 2) + DiagonalMap::kPoints * (j0 + (c >= 2))] = corners_[index][c];
+    return;
+  }
+  double r;
+  const BezierNet net = netOrStandIn(node, r);
+  for (int b = 0; b <= span; ++b) {
+    for (int a = 0; a <= span; ++a) {
+      grid[i0 + a + DiagonalMap::kPoints * (j0 + b)] = evaluateBezier(net.data(), double(a) / span, double(b) / span).position;
+    }
+  }
+}
+
+// The diagonal whose pair, through its map, lies nearer the surface at the grid points.
+DiagonalMap TreeBuilder::diagonalMap(uint32_t index) const {
+  Vec3d grid[DiagonalMap::kPoints * DiagonalMap::kPoints];
+  gatherGridSamples(index, 0, 0, 0, grid);
+  const Vec3d* c = corners_[index].data();
+  const DiagonalMap first(0, c, grid), second(1, c, grid);
+  return second.gridGap() < first.gridGap() ? second : first;
+}
+
 void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path) {
   const SurfaceNode& node = tree_.nodes[index];
   if (node.isLeaf()) {
-    if (node.kind == NodeKind::kEvBottom) {
-      BezierNet g;
-      const EvBottom& bottom = tree_.evBottoms[node.payload];
-      for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
-      leafAgainstAncestors(g, node.standInBound, level, ix, iy, path);
-    } else {
-      leafAgainstAncestors(leafNet(node), 0, level, ix, iy, path);
-    }
+    double r;
+    const BezierNet net = netOrStandIn(node, r);
+    leafAgainstAncestors(index, net, r, level, ix, iy, path);
+    standForLeaves(index, level, ix, iy, path);
     return;
   }
   {
     AxisMapBuilder u, v;
     gatherAxisSamples(index, 0, 0, 0, corners_[index], u, v);
-    path.push_back({index, level, ix, iy, u.build(), v.build()});
+    const bool useDiagonal = node.pairBound > kDiagonalFloor * floor_;
+    path.push_back({index, level, ix, iy, u.build(), v.build(), diagonalMap(index), useDiagonal});
+    // Its value at the grid points starts the maximum: the cheap bounds then skip more pieces.
+    pairDiagonal_[index] = path.back().diagonal.gridGap();
   }
   const bool reparam = !path.back().u.isIdentity() || !path.back().v.isIdentity();
+  const uint8_t diagonal = uint8_t(1 + path.back().diagonal.diagonal());
+  const bool useDiagonal = path.back().useDiagonal;
   for (int q = 0; q < 4; ++q) {
     directPairBounds(node.firstChild + q, level + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), path);
   }
   path.pop_back();
-  // Keep whichever is smaller: the bound through the stand-in or the one gathered from leaves.
+  // At equal parameters or through the axis maps (§3a, whichever direct bound is smaller, each
+  // with the twist), against the stand-in's (§4); then through the diagonal map (§3b, no twist,
+  // that diagonal only) if its pair bound is smaller still, with its own bows.
   SurfaceNode& self = tree_.nodes[index];
   const std::array<Vec3d, 4>& c = corners_[index];
   const double twist = length(c[0] - c[1] + c[2] - c[3]) / 4;
-  // The geometric bound (§3a) serves when its pair and every bow are no larger: a tile takes
-  // its pair bound and bows from one parameterization.
   double pair = pair_[index];
-  std::array<double, 4> bow = bow_[index];
-  if (reparam && pairReparam_[index] < pair) {
-    pair = pairReparam_[index];
-    for (int side = 0; side < 4; ++side) bow[side] = bowReparam_[index][side];
+  std::array<double, 4> bows = bow_[index];
+  if (reparam && pairReparam_[index] < pair) pair = pairReparam_[index], bows = bowReparam_[index];
+  pair = std::min(double(self.pairBound), (pair + twist) * (1 + 1e-9));
+  for (int side = 0; side < 4; ++side) bows[side] = std::min(double(self.sideBow[side]), bows[side] * (1 + 1e-9));
+  uint8_t kept = 0;
+  if (useDiagonal && pairDiagonal_[index] < pair) {
+    pair = pairDiagonal_[index] * (1 + 1e-9), kept = diagonal;
+    for (int side = 0; side < 4; ++side) bows[side] = bowDiagonal_[index][side] * (1 + 1e-9);
   }
-  self.pairBound = std::min(self.pairBound, roundUp((pair + twist) * (1 + 1e-9)));
-  for (int side = 0; side < 4; ++side) {
-    self.sideBow[side] = std::min(self.sideBow[side], roundUp(bow[side] * (1 + 1e-9)));
-  }
+  self.pairBound = roundUp(pair);
+  for (int side = 0; side < 4; ++side) self.sideBow[side] = roundUp(bows[side]);
+  self.pairDiagonal = kept;
+  standForLeaves(index, level, ix, iy, path);
+}
+
+// A node kDiagonalReach + 1 levels below an ancestor stands there for all its leaves in the
+// diagonal bound (§3b): its distance from its bilinear and its bows (the direct bounds at equal
+// parameters) plus the bilinear gaps at its corners, so a leaf costs the diagonal bound at most
+// kDiagonalReach ancestors, however deep the tree.
+void TreeBuilder::standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path) {
+  if (path.size() <= size_t(kDiagonalReach)) return;
+  const Ancestor& a = path[path.size() - 1 - kDiagonalReach];
+  if (!a.useDiagonal) return;
+  const int d = level - a.level;
+  const double scale = std::ldexp(1.0, -d);
+  const double x0 = double(ix - (a.ix << d)) * scale, y0 = double(iy - (a.iy << d)) * scale;
+  const std::array<Vec3d, 4>& c = corners_[index];
+  const std::array<double, 4>& b = bow_[index];
+  const LeafOwn node{{c[0], c[1], c[2], c[3]}, x0, y0, scale, pair_[index], {b[0], b[1], b[2], b[3]}};
+  pieceAgainstDiagonal(nullptr, 0, node, x0, y0, scale, a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
 }
 
 SurfaceTree TreeBuilder::build() {
@@ -569,6 +660,8 @@ SurfaceTree TreeBuilder::build() {
   bow_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   pairReparam_.assign(tree_.nodes.size(), 0);
   bowReparam_.assign(tree_.nodes.size(), {0, 0, 0, 0});
+  pairDiagonal_.assign(tree_.nodes.size(), 0);
+  bowDiagonal_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   // Roots are independent: every slot they write was allocated above.
   tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
     const uint32_t root = tree_.roots[r].node;

@@ -38,10 +38,12 @@ struct SurfaceNode {
   // curvature (root units). Exact pieces are their own stand-ins (bound 0).
   float standInBound = 0;
   float standInCurvature[3] = {0, 0, 0};
-  // The triangle pair through the node's corners: sup ‖f ∘ φ − L‖ ≤ pairBound for either
-  // diagonal; sideBow[k]: sup ‖f ∘ φ − chord‖ along side k (0: v = 0, 1: u = 1, 2: v = 1,
-  // 3: u = 0), what points added on that side can move the pair's interpolant. φ is the identity
-  // or the node's per-axis map, so both bound the geometric distance (docs/ADAPTIVE.md §3, §3a).
+  // The triangle pair through the node's corners: sup ‖f ∘ φ − L‖ ≤ pairBound; sideBow[k]:
+  // sup ‖f ∘ φ − chord‖ along side k (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0), what points added
+  // on that side can move the pair's interpolant. φ is the identity, the node's per-axis map or
+  // its diagonal map, so each bounds the geometric distance (docs/ADAPTIVE.md §3, §3a, §3b).
+  // pairDiagonal 0: the bound holds for either diagonal and any triangulation of the side
+  // points; 1 + d: only for triangulations that keep diagonal d (0: corners 0–2, 1: corners 1–3).
   float pairBound = 0;
   float sideBow[4] = {0, 0, 0, 0};
   float boxMin[3] = {0, 0, 0}, boxMax[3] = {0, 0, 0};
@@ -50,6 +52,7 @@ struct SurfaceNode {
   NodeKind kind = NodeKind::kInternal;
   uint8_t evCorners = 0;  // bit c: corner c is an extraordinary vertex inside this node
   uint8_t orientation = 0;  // leaves: Orientation::code() of the piece's (s, t) frame in the root
+  uint8_t pairDiagonal = 0;
 
   Curvature bound() const { return {curvature[0], curvature[1], curvature[2]}; }
   Curvature standInCurvatureBound() const {

@@ -101,12 +101,28 @@ Chain reversed(const Chain& chain) {
 }
 
 // A one-cell polygon: four sides counter-clockwise (side k from corner k to corner k + 1), each
-// given in counter-clockwise order, coordinates increasing along it.
-void triangulateCell(const Chain sides[4], TileTriangles& out) {
+// given in counter-clockwise order, coordinates increasing along it. `diagonal` 1 + d keeps
+// diagonal d (0: corners 0–2, 1: corners 1–3) as an edge (Tile::diagonal); 0 leaves it free.
+void triangulateCell(const Chain sides[4], TileTriangles& out, int diagonal = 0) {
   bool extra[4];
   int count = 0;
   for (int k = 0; k < 4; ++k) count += extra[k] = sides[k].size() > 2;
   auto corner = [&](int k) { return sides[k % 4].front().vertex; };
+  // A half: the diagonal from corner `first` to corner first + 2 and the two sides between,
+  // fanned from the diagonal's far end when one side has no extras, else zipped.
+  auto half = [&](int first) {
+    const int second = (first + 1) % 4;
+    const Chain& a = sides[first];
+    const Chain& b = sides[second];
+    if (!extra[second]) return out.fan(b.back().vertex, a);
+    if (!extra[first]) return out.fan(a.front().vertex, b);
+    out.zipToCorner(a, reversed(b));
+  };
+  if (diagonal > 0) {
+    half(diagonal - 1);
+    half(diagonal + 1);
+    return;
+  }
   if (count == 0) return out.quad(corner(0), corner(1), corner(2), corner(3));
   for (int k = 0; k < 4; ++k) {
     // One side, or two sides meeting at corner k + 1: a fan from a corner on neither.
@@ -124,15 +140,7 @@ void triangulateCell(const Chain sides[4], TileTriangles& out) {
     const int k = extra[0] ? 0 : 1;
     return out.zipParallel(sides[k], reversed(sides[k + 2]));
   }
-  // Three or four sides: split along the diagonal from corner 0 to corner 2; each half is two
-  // sides meeting at a corner, fanned from the diagonal's far end when one side has no extras.
-  auto half = [&](int first) {
-    const Chain& a = sides[first];
-    const Chain& b = sides[first + 1];
-    if (!extra[first + 1]) return out.fan(b.back().vertex, a);
-    if (!extra[first]) return out.fan(a.front().vertex, b);
-    out.zipToCorner(a, reversed(b));
-  };
+  // Three or four sides: split along the diagonal from corner 0 to corner 2.
   half(0);
   half(2);
 }
@@ -278,7 +286,7 @@ void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTr
       cell[1] = i + 1 == r ? piece(1, j) : segment(lattice(i + 1, j), lattice(i + 1, j + 1));
       cell[2] = reversed(j + 1 == r ? piece(2, i) : segment(lattice(i, j + 1), lattice(i + 1, j + 1)));
       cell[3] = reversed(i == 0 ? piece(3, j) : segment(lattice(i, j), lattice(i, j + 1)));
-      triangulateCell(cell, out);
+      triangulateCell(cell, out, tile.diagonal);
     }
   }
 }
@@ -299,7 +307,7 @@ void triangulateTile(const Stitching& stitching, size_t t, const Tile& tile, uin
   if (tile.ru == 1 && tile.rv == 1) {
     Chain sides[4];
     counterClockwiseSides(stitching, t, sides);
-    return triangulateCell(sides, out);
+    return triangulateCell(sides, out, tile.diagonal);
   }
   stripTile(stitching, t, tile, out);
 }
