@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "core/axis_reparameterization.h"
@@ -108,8 +109,15 @@ class TreeBuilder {
     int level;
     uint64_t ix, iy;
     AxisMap u, v;  // the reparameterization of the geometric pair bound (§3a)
-    DiagonalMap diagonal;  // the twist-free pair bound's (§3b)
-    bool useDiagonal;      // false: the node is finer than kDiagonalFloor, the identity serves
+    // The twist-free pair bound's (§3b); none where the node is finer than kDiagonalFloor.
+    std::optional<DiagonalMap> diagonal;
+
+    // A descendant's square [x, x + s] × [y, y + s] in this node's units.
+    void square(int level, uint64_t ix, uint64_t iy, double& x, double& y, double& s) const {
+      const int d = level - this->level;
+      s = std::ldexp(1.0, -d);
+      x = double(ix - (this->ix << d)) * s, y = double(iy - (this->iy << d)) * s;
+    }
   };
   void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
   void gatherAxisSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
@@ -477,9 +485,8 @@ void TreeBuilder::leafAgainstAncestors(uint32_t index, const BezierNet& net, dou
   std::copy(ownBow, ownBow + 4, bow_[index].begin());
   for (const Ancestor& a : path) {
     const std::array<Vec3d, 4>& c = corners_[a.node];
-    const int d = level - a.level;
-    const double scale = std::ldexp(1.0, -d);
-    const double x0 = double(ix - (a.ix << d)) * scale, y0 = double(iy - (a.iy << d)) * scale;
+    double x0, y0, scale;
+    a.square(level, ix, iy, x0, y0, scale);
     const bool touches[4] = {y0 == 0, x0 + scale == 1, y0 + scale == 1, x0 == 0};
     // The leaf against B at the same parameters, or against B at the preimage of its corners.
     auto against = [&](double u0, double u1, double v0, double v1, double& pair, std::array<double, 4>& bows) {
@@ -507,10 +514,10 @@ void TreeBuilder::leafAgainstAncestors(uint32_t index, const BezierNet& net, dou
       against(a.u.preimage(x0), a.u.preimage(x0 + scale), a.v.preimage(y0), a.v.preimage(y0 + scale),
               pairReparam_[a.node], bowReparam_[a.node]);
     }
+    if (!a.diagonal || level - a.level > kDiagonalReach) continue;
     const LeafOwn leaf{{own[0], own[1], own[2], own[3]}, x0, y0, scale, ownPair, {ownBow[0], ownBow[1], ownBow[2], ownBow[3]}};
-    if (!a.useDiagonal || d > kDiagonalReach) continue;
     const LazyNet whole{nullptr, 0, true, net};
-    pieceAgainstDiagonal(&whole, r, leaf, x0, y0, scale, a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
+    pieceAgainstDiagonal(&whole, r, leaf, x0, y0, scale, *a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
   }
 }
 
@@ -590,14 +597,17 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   {
     AxisMapBuilder u, v;
     gatherAxisSamples(index, 0, 0, 0, corners_[index], u, v);
-    const bool useDiagonal = node.pairBound > kDiagonalFloor * floor_;
-    path.push_back({index, level, ix, iy, u.build(), v.build(), diagonalMap(index), useDiagonal});
-    // Its value at the grid points starts the maximum: the cheap bounds then skip more pieces.
-    pairDiagonal_[index] = path.back().diagonal.gridGap();
+    std::optional<DiagonalMap> diagonal;
+    if (node.pairBound > kDiagonalFloor * floor_) {
+      diagonal = diagonalMap(index);
+      // Its value at the grid points starts the maximum: the cheap bounds then skip more pieces.
+      pairDiagonal_[index] = diagonal->gridGap();
+    }
+    path.push_back({index, level, ix, iy, u.build(), v.build(), diagonal});
   }
   const bool reparam = !path.back().u.isIdentity() || !path.back().v.isIdentity();
-  const uint8_t diagonal = uint8_t(1 + path.back().diagonal.diagonal());
-  const bool useDiagonal = path.back().useDiagonal;
+  // 1 + the diagonal of this node's map; 0: it has none.
+  const uint8_t diagonal = path.back().diagonal ? uint8_t(1 + path.back().diagonal->diagonal()) : 0;
   for (int q = 0; q < 4; ++q) {
     directPairBounds(node.firstChild + q, level + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), path);
   }
@@ -614,7 +624,7 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   pair = std::min(double(self.pairBound), (pair + twist) * (1 + 1e-9));
   for (int side = 0; side < 4; ++side) bows[side] = std::min(double(self.sideBow[side]), bows[side] * (1 + 1e-9));
   uint8_t kept = 0;
-  if (useDiagonal && pairDiagonal_[index] < pair) {
+  if (diagonal != 0 && pairDiagonal_[index] < pair) {
     pair = pairDiagonal_[index] * (1 + 1e-9), kept = diagonal;
     for (int side = 0; side < 4; ++side) bows[side] = bowDiagonal_[index][side] * (1 + 1e-9);
   }
@@ -631,14 +641,13 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
 void TreeBuilder::standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path) {
   if (path.size() <= size_t(kDiagonalReach)) return;
   const Ancestor& a = path[path.size() - 1 - kDiagonalReach];
-  if (!a.useDiagonal) return;
-  const int d = level - a.level;
-  const double scale = std::ldexp(1.0, -d);
-  const double x0 = double(ix - (a.ix << d)) * scale, y0 = double(iy - (a.iy << d)) * scale;
+  if (!a.diagonal) return;
+  double x0, y0, scale;
+  a.square(level, ix, iy, x0, y0, scale);
   const std::array<Vec3d, 4>& c = corners_[index];
   const std::array<double, 4>& b = bow_[index];
   const LeafOwn node{{c[0], c[1], c[2], c[3]}, x0, y0, scale, pair_[index], {b[0], b[1], b[2], b[3]}};
-  pieceAgainstDiagonal(nullptr, 0, node, x0, y0, scale, a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
+  pieceAgainstDiagonal(nullptr, 0, node, x0, y0, scale, *a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
 }
 
 SurfaceTree TreeBuilder::build() {
