@@ -47,6 +47,9 @@ class MeshStore {
   // Returns false if there was no such mesh.
   virtual bool remove(std::string_view id) = 0;
   virtual StoreStats stats() = 0;
+  // A cheap read of the meshes table that throws StoreError when the store cannot serve
+  // (unreachable, or its table unreadable): what the health service reports (store_health.h).
+  virtual void probe() = 0;
 };
 
 // Opens the store a --store value names: "sqlite:PATH" or a libpq URI "postgresql://..." /

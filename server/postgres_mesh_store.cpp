@@ -293,4 +293,9 @@ StoreStats PostgresMeshStore::stats() {
   return StoreStats{integerAt(r.get(), 0, 0), integerAt(r.get(), 0, 1)};
 }
 
+void PostgresMeshStore::probe() {
+  Lease lease = acquire();
+  run(lease.get(), "SELECT id FROM meshes ORDER BY id LIMIT 1");
+}
+
 }  // namespace tessera::server

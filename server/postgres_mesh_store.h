@@ -32,6 +32,7 @@ class PostgresMeshStore final : public MeshStore {
   std::vector<MeshMetadata> list(std::string_view afterId, int limit) override;
   bool remove(std::string_view id) override;
   StoreStats stats() override;
+  void probe() override;
 
  private:
   class Lease;

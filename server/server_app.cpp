@@ -11,6 +11,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include "server/mesh_service.h"
@@ -19,6 +20,7 @@
 #include "server/render_service.h"
 #include "server/request_observer.h"
 #include "server/server_info_service.h"
+#include "server/store_health.h"
 #include "server/tessellation_service.h"
 #include "server/cpu_engine.h"
 #include "server/patch_set_cache.h"
@@ -248,12 +250,23 @@ int runServer(const ServerConfig& config) {
                TESSERA_VERSION, address, store->kind(), config.tlsCert.empty() ? "no" : "with",
                auth.enabled() ? "on" : "off", reflection ? "on" : "off",
                metricsServer ? metricsServer->address() : "off");
+  if (!auth.enabled() && !listensOnLoopbackOnly(config.listen)) {
+    spdlog::warn("{} is reachable from other machines and no --token is set: anyone who can "
+                 "connect may upload, read and delete meshes",
+                 address);
+  }
+  // Health follows the store from now on (NOT_SERVING while it cannot serve).
+  std::optional<StoreHealth> storeHealth;
+  storeHealth.emplace(
+      *store, [&server](bool serving) { server->GetHealthCheckService()->SetServingStatus(serving); },
+      StoreHealth::Timing{});
   if (!config.readyFile.empty()) {
     writeReadyFile(config.readyFile, address, metricsServer ? metricsServer->address() : "");
   }
 
   int signal = waitForStopSignal(stopSignals);
   spdlog::info("signal {} received: shutting down", signal);
+  storeHealth.reset();  // no probe may report SERVING while the server drains
   shutDown(*server, config.shutdownGraceSeconds);
   if (metricsServer) metricsServer->stop();
   spdlog::info("stopped");

@@ -1,11 +1,14 @@
 #include "server/server_config.h"
 
+#include <arpa/inet.h>
 #include <fmt/format.h>
 
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include "server/metrics_http_server.h"  // splitHostPort
 
 namespace tessera::server {
 namespace {
@@ -158,6 +161,15 @@ void finalizeServerConfig(ServerConfig& c) {
   }
   if (c.cacheBytes < 0) throw std::invalid_argument("--cache-bytes must not be negative");
   if (c.patchCacheBytes < 0) throw std::invalid_argument("--patch-cache-bytes must not be negative");
+}
+
+bool listensOnLoopbackOnly(const std::string& listen) {
+  const std::string host = splitHostPort(listen, "--listen").first;
+  if (host == "localhost") return true;
+  in_addr v4{};
+  if (inet_pton(AF_INET, host.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return inet_pton(AF_INET6, host.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
 }
 
 }  // namespace tessera::server

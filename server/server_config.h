@@ -42,4 +42,8 @@ void addServerOptions(CLI::App& app, ServerConfig& config);
 // std::invalid_argument naming the flag.
 void finalizeServerConfig(ServerConfig& config);
 
+// Whether a --listen address HOST:PORT accepts connections from this machine only (a loopback
+// address or "localhost"); 0.0.0.0, [::] and every other address reach further.
+bool listensOnLoopbackOnly(const std::string& listen);
+
 }  // namespace tessera::server

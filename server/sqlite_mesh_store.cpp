@@ -213,4 +213,10 @@ StoreStats SqliteMeshStore::stats() {
   return StoreStats{s.integer(0), s.integer(1)};
 }
 
+void SqliteMeshStore::probe() {
+  std::lock_guard lock(mutex_);
+  Statement s(db_, "SELECT id FROM meshes ORDER BY id LIMIT 1");
+  s.step();
+}
+
 }  // namespace tessera::server

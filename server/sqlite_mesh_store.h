@@ -25,6 +25,7 @@ class SqliteMeshStore final : public MeshStore {
   std::vector<MeshMetadata> list(std::string_view afterId, int limit) override;
   bool remove(std::string_view id) override;
   StoreStats stats() override;
+  void probe() override;
 
  private:
   void exec(const char* sql);

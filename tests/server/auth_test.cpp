@@ -59,6 +59,24 @@ TEST(Auth, HealthChecksNeedNoTokenWhileEveryOtherCallDoes) {
   EXPECT_TRUE(serverInfo(*server, "s3cret").ok());
 }
 
+// A server that other machines can reach says so at start when it has no token. (The server
+// listens on every address here, but the test talks to none of them.)
+TEST(Auth, ListeningBeyondLoopbackWithoutATokenIsWarnedAbout) {
+  TempDir dir;
+  const std::string warning = "reachable from other machines and no --token is set";
+  auto open = ServerProcess::start(dir.path(), {"--listen", "0.0.0.0:0"}, {}, /*awaitServing=*/false);
+  ASSERT_TRUE(open);
+  EXPECT_NE(open->log().find(warning), std::string::npos) << open->log();
+  open->terminate();
+  auto withToken = ServerProcess::start(dir.path(), {"--listen", "0.0.0.0:0", "--token", "T"}, {}, false);
+  ASSERT_TRUE(withToken);
+  EXPECT_EQ(withToken->log().find(warning), std::string::npos) << withToken->log();
+  withToken->terminate();
+  auto loopback = ServerProcess::start(dir.path(), {});
+  ASSERT_TRUE(loopback);
+  EXPECT_EQ(loopback->log().find(warning), std::string::npos) << loopback->log();
+}
+
 TEST(Auth, TheTokenCanComeFromAFileOrTheEnvironment) {
   TempDir dir;
   std::filesystem::path tokenFile = dir.path() / "token";

@@ -70,7 +70,10 @@ pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>
 
 }  // namespace
 
-bool waitUntilServing(const std::shared_ptr<grpc::Channel>& channel) {
+static_assert(kServing == grpc::health::v1::HealthCheckResponse::SERVING &&
+              kNotServing == grpc::health::v1::HealthCheckResponse::NOT_SERVING);
+
+bool waitForHealth(const std::shared_ptr<grpc::Channel>& channel, int wanted) {
   auto stub = grpc::health::v1::Health::NewStub(channel);
   auto giveUp = std::chrono::steady_clock::now() + kStartLimit;
   while (std::chrono::steady_clock::now() < giveUp) {
@@ -79,9 +82,7 @@ bool waitUntilServing(const std::shared_ptr<grpc::Channel>& channel) {
     context.set_wait_for_ready(true);
     grpc::health::v1::HealthCheckResponse response;
     grpc::Status status = stub->Check(&context, {}, &response);
-    if (status.ok() && response.status() == grpc::health::v1::HealthCheckResponse::SERVING) {
-      return true;
-    }
+    if (status.ok() && int(response.status()) == wanted) return true;
     std::this_thread::sleep_for(kPollInterval);
   }
   return false;
@@ -89,15 +90,18 @@ bool waitUntilServing(const std::shared_ptr<grpc::Channel>& channel) {
 
 std::unique_ptr<ServerProcess> ServerProcess::start(const std::filesystem::path& workDir,
                                                     const std::vector<std::string>& flags,
-                                                    const std::map<std::string, std::string>& env) {
+                                                    const std::map<std::string, std::string>& env,
+                                                    bool awaitServing) {
   std::unique_ptr<ServerProcess> server(new ServerProcess());
   static int serial = 0;
   std::string tag = std::to_string(++serial);
   std::filesystem::path ready = workDir / ("ready-" + tag);
   server->logPath_ = workDir / ("server-" + tag + ".log");
-  std::vector<std::string> argv = {TESSERA_SERVER_BINARY, "--listen", "127.0.0.1:0",
-                                   "--metrics-listen", "127.0.0.1:0", "--ready-file",
+  std::vector<std::string> argv = {TESSERA_SERVER_BINARY, "--metrics-listen", "127.0.0.1:0", "--ready-file",
                                    ready.string()};
+  if (std::find(flags.begin(), flags.end(), "--listen") == flags.end()) {
+    argv.insert(argv.end(), {"--listen", "127.0.0.1:0"});
+  }
   argv.insert(argv.end(), flags.begin(), flags.end());
   auto tlsCert = std::find(flags.begin(), flags.end(), "--tls-cert");
   if (tlsCert != flags.end() && std::next(tlsCert) != flags.end()) {
@@ -125,7 +129,7 @@ std::unique_ptr<ServerProcess> ServerProcess::start(const std::filesystem::path&
   auto values = readKeyValues(ready);
   server->address_ = values["grpc"];
   server->metricsAddress_ = values["metrics"];
-  if (!waitUntilServing(server->channel())) {
+  if (awaitServing && !waitForHealth(server->channel(), kServing)) {
     ADD_FAILURE() << "tessera-server never reported SERVING; its log:\n" << server->log();
     return nullptr;
   }

@@ -16,12 +16,14 @@ namespace tessera::test {
 
 class ServerProcess {
  public:
-  // Starts the server with the given flags (plus --listen, --metrics-listen and --ready-file
-  // chosen here) in workDir and waits until its health service says SERVING. Fails the current
-  // test (fatally) if it does not start, printing the server's log.
+  // Starts the server with the given flags (plus --metrics-listen, --ready-file and, unless the
+  // flags give one, --listen chosen here) in workDir and waits until it has written its ready file and, unless
+  // awaitServing is false, until its health service says SERVING. Fails the current test
+  // (fatally) if it does not start, printing the server's log.
   static std::unique_ptr<ServerProcess> start(const std::filesystem::path& workDir,
                                               const std::vector<std::string>& flags,
-                                              const std::map<std::string, std::string>& env = {});
+                                              const std::map<std::string, std::string>& env = {},
+                                              bool awaitServing = true);
   ~ServerProcess();
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
@@ -50,7 +52,9 @@ class ServerProcess {
   std::string tlsCertificate_;  // PEM, when the server runs with TLS
 };
 
-// Waits (with a generous limit) until the server at channel says SERVING; false if it never does.
-bool waitUntilServing(const std::shared_ptr<grpc::Channel>& channel);
+// Waits (with a generous limit) until the server at channel reports `wanted` (the numbers of
+// grpc.health.v1's ServingStatus: 1 SERVING, 2 NOT_SERVING); false if it never does.
+inline constexpr int kServing = 1, kNotServing = 2;
+bool waitForHealth(const std::shared_ptr<grpc::Channel>& channel, int wanted);
 
 }  // namespace tessera::test

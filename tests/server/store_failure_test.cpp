@@ -1,5 +1,6 @@
 // A store that fails under the server: the client hears UNAVAILABLE (retry later) and nothing of
-// the store's own words (its library's messages, file names), which go to the server's log.
+// the store's own words (its library's messages, file names), which go to the server's log; the
+// health service says NOT_SERVING while the store cannot serve, and SERVING once it can again.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -41,8 +42,10 @@ TEST(StoreFailure, ADamagedSqliteStoreIsUnavailableWithoutItsInternals) {
     const std::string garbage(size - 4096, '\xA5');
     file.write(garbage.data(), std::streamsize(garbage.size()));
   }
-  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + database.string()});
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + database.string()}, {},
+                                     /*awaitServing=*/false);
   ASSERT_TRUE(server);
+  EXPECT_TRUE(waitForHealth(server->channel(), kNotServing));
   const grpc::Status status = listMeshes(*server);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE) << status.error_message();
   EXPECT_NE(status.error_message().find("mesh store unavailable"), std::string::npos) << status.error_message();
@@ -51,6 +54,29 @@ TEST(StoreFailure, ADamagedSqliteStoreIsUnavailableWithoutItsInternals) {
   }
   // The cause is in the server's log for its operator.
   EXPECT_NE(server->log().find("malformed"), std::string::npos);
+  EXPECT_NE(server->log().find("health NOT_SERVING"), std::string::npos);
+}
+
+// A PostgreSQL store taken away while the server runs (its connections ended, its database
+// renamed) and given back: health follows, and calls in between are UNAVAILABLE.
+TEST(StoreFailure, HealthFollowsAPostgresOutage) {
+  std::string whyNot;
+  auto database = PostgresDatabase::create(&whyNot);
+  if (!database) GTEST_SKIP() << "PostgreSQL store test skipped: " << whyNot;
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", database->url()});
+  ASSERT_TRUE(server);
+  auto stub = v1::MeshService::NewStub(server->channel());
+  ASSERT_TRUE(uploadMessages(*stub, arraysUpload("kept", gridMesh(4, 0))).status.ok());
+
+  ASSERT_EQ(database->takeAway(), "");
+  EXPECT_TRUE(waitForHealth(server->channel(), kNotServing)) << server->log();
+  EXPECT_EQ(listMeshes(*server).error_code(), grpc::StatusCode::UNAVAILABLE);
+
+  ASSERT_EQ(database->giveBack(), "");
+  EXPECT_TRUE(waitForHealth(server->channel(), kServing)) << server->log();
+  EXPECT_TRUE(listMeshes(*server).ok());
+  EXPECT_NE(server->log().find("health SERVING"), std::string::npos);
 }
 
 }  // namespace

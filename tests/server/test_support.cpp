@@ -12,17 +12,20 @@
 
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <future>
 #include <sstream>
+#include <thread>
 
 namespace tessera::test {
 namespace {
 
 std::string runAdmin(const std::string& url, const std::string& sql) {
   PGconn* c = PQconnectdb(url.c_str());
+  PQsetNoticeProcessor(c, [](void*, const char*) {}, nullptr);  // "does not exist, skipping"
   std::string error;
   if (PQstatus(c) != CONNECTION_OK) {
     error = PQerrorMessage(c);
@@ -91,7 +94,27 @@ PostgresDatabase::PostgresDatabase(std::string adminUrl, std::string name, std::
 
 PostgresDatabase::~PostgresDatabase() {
   // FORCE: a SIGKILLed server may leave a connection the cluster has not noticed yet.
-  if (!name_.empty()) runAdmin(adminUrl_, "DROP DATABASE IF EXISTS " + name_ + " WITH (FORCE)");
+  if (name_.empty()) return;
+  runAdmin(adminUrl_, "DROP DATABASE IF EXISTS " + name_ + " WITH (FORCE)");
+  runAdmin(adminUrl_, "DROP DATABASE IF EXISTS " + name_ + "_away WITH (FORCE)");  // a test that failed mid-outage
+}
+
+std::string PostgresDatabase::takeAway() {
+  // The terminated sessions leave asynchronously, and the server reconnects between probes:
+  // the rename is retried until no session holds the database.
+  std::string error;
+  for (int attempt = 0; attempt < 50; ++attempt) {
+    error = runAdmin(adminUrl_, fmt::format("DO $$BEGIN PERFORM pg_terminate_backend(pid) FROM pg_stat_activity "
+                                            "WHERE datname = '{0}'; END$$; ALTER DATABASE {0} RENAME TO {0}_away",
+                                            name_));
+    if (error.empty()) return error;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return error;
+}
+
+std::string PostgresDatabase::giveBack() {
+  return runAdmin(adminUrl_, fmt::format("ALTER DATABASE {0}_away RENAME TO {0}", name_));
 }
 
 bool MeshArrays::operator==(const MeshArrays& o) const {

@@ -41,6 +41,11 @@ class PostgresDatabase {
   PostgresDatabase& operator=(const PostgresDatabase&) = delete;
   ~PostgresDatabase();
   const std::string& url() const { return url_; }
+  // A store outage as its clients see it: every connection to the database ended and its name
+  // changed, so that none can reconnect; giveBack() restores the name. Each returns the error,
+  // empty on success.
+  std::string takeAway();
+  std::string giveBack();
 
  private:
   PostgresDatabase(std::string adminUrl, std::string name, std::string url);
