@@ -21,7 +21,7 @@ constexpr size_t kDownloadChunkBytes = 64 * 1024;
 
 }  // namespace
 
-void MeshServiceImpl::receive(grpc::ServerReader<v1::UploadMeshRequest>& reader,
+void MeshServiceImpl::receive(Watched<grpc::ServerReader<v1::UploadMeshRequest>>& reader,
                               UploadAssembler& upload) {
   v1::UploadMeshRequest message;
   while (reader.Read(&message)) {
@@ -43,7 +43,11 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
   return guardCall(*context, auth_, [&] {
     CancellationToken cancel = cancellationFor(*context);
     UploadAssembler upload(limits_);
-    receive(*reader, upload);
+    {
+      StreamWatch::Call call = streams_.open(*context, "UploadMesh");
+      Watched watched(*reader, call);
+      receive(watched, upload);
+    }
     // Read() also returns false when the client cancels or the deadline passes: that is not the
     // end of a complete upload.
     cancel.throwIfCancelled();
@@ -98,14 +102,16 @@ grpc::Status MeshServiceImpl::DownloadMesh(grpc::ServerContext* context,
     MeshMetadata metadata = repository_.metadata(meshIdFromName(request->name(), "name"));
     std::shared_ptr<const ControlMesh> mesh = repository_.mesh(metadata);
     CancellationToken cancel = cancellationFor(*context);
+    StreamWatch::Call call = streams_.open(*context, "DownloadMesh");
+    Watched watched(*writer, call);
     v1::DownloadMeshResponse first;
     toProto(metadata, first.mutable_mesh());
-    if (!writer->Write(first)) throw OperationCancelled();
+    if (!watched.Write(first)) throw OperationCancelled();
     bool complete = forEachArraysChunk(*mesh, kDownloadChunkBytes, [&](const v1::MeshArrays& chunk) {
       if (cancel.cancelled()) return false;
       v1::DownloadMeshResponse message;
       *message.mutable_arrays() = chunk;
-      return writer->Write(message);
+      return watched.Write(message);
     });
     if (!complete) throw OperationCancelled();
   });

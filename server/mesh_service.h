@@ -7,15 +7,16 @@
 #include "server/mesh_repository.h"
 #include "server/mesh_upload.h"
 #include "server/server_metrics.h"
+#include "server/stream_watch.h"
 #include "tessera/v1/mesh.grpc.pb.h"
 
 namespace tessera::server {
 
 class MeshServiceImpl final : public tessera::v1::MeshService::Service {
  public:
-  MeshServiceImpl(MeshRepository& repository, AdmissionControl& admission,
+  MeshServiceImpl(MeshRepository& repository, AdmissionControl& admission, StreamWatch& streams,
                   const BearerAuth& auth, const UploadLimits& limits, ServerMetrics& metrics)
-      : repository_(repository), admission_(admission), auth_(auth), limits_(limits),
+      : repository_(repository), admission_(admission), streams_(streams), auth_(auth), limits_(limits),
         metrics_(metrics) {}
 
   grpc::Status UploadMesh(grpc::ServerContext* context,
@@ -35,11 +36,12 @@ class MeshServiceImpl final : public tessera::v1::MeshService::Service {
 
  private:
   // Feeds every message of the stream to upload, until the client half-closes (or goes away).
-  void receive(grpc::ServerReader<tessera::v1::UploadMeshRequest>& reader,
+  void receive(Watched<grpc::ServerReader<tessera::v1::UploadMeshRequest>>& reader,
                UploadAssembler& upload);
 
   MeshRepository& repository_;
   AdmissionControl& admission_;
+  StreamWatch& streams_;
   const BearerAuth& auth_;
   const UploadLimits limits_;
   ServerMetrics& metrics_;

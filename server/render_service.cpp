@@ -187,10 +187,11 @@ struct SessionLog {
 }  // namespace
 
 RenderServiceImpl::RenderServiceImpl(MeshRepository& repository, AdmissionControl& admission,
-                                     RenderBackend& backend, const BearerAuth& auth,
+                                     StreamWatch& streams, RenderBackend& backend, const BearerAuth& auth,
                                      const TessellationLimits& limits, MetricsRegistry& registry)
     : repository_(repository),
       admission_(admission),
+      streams_(streams),
       backend_(backend),
       auth_(auth),
       limits_(limits),
@@ -253,6 +254,8 @@ grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
     MeshMetadata metadata = repository_.metadata(id);
     checkSettingsForMesh(settings.frame, "settings", metadata, limits_);
     CancellationToken cancel = cancellationFor(*context);
+    StreamWatch::Call call = streams_.open(*context, "Render");
+    Watched watched(*writer, call);
     MeshHandle mesh(repository_, metadata);
     const char* format = formatName(settings.encoding.format);
     for (int i = 0; i < count; ++i) {
@@ -269,7 +272,7 @@ grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
         rethrowFor(fmt::format("cameras[{}]", i));
       }
       frame.header.set_index(i);
-      sendFrame<v1::RenderResponse>(*writer, frame.header, frame.bytes, cancel);
+      sendFrame<v1::RenderResponse>(watched, frame.header, frame.bytes, cancel);
       framesRendered_.add({"Render", format});
       imageBytesSent_.add({"Render"}, double(frame.bytes.size()));
     }
@@ -279,8 +282,10 @@ grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
 grpc::Status RenderServiceImpl::RenderSession(grpc::ServerContext* context, SessionStream* stream) {
   return guardCall(*context, auth_, [&] {
     requireBackend();
+    StreamWatch::Call call = streams_.open(*context, "RenderSession", /*session=*/true);
+    Watched watched(*stream, call);
     v1::SessionRequest first;
-    if (!stream->Read(&first)) {
+    if (!watched.Read(&first)) {
       throwInvalidArgument("start: the stream ended before its first message (a SessionStart)");
     }
     if (!first.has_start()) throwInvalidArgument("start: the first message must be a SessionStart");
@@ -300,7 +305,7 @@ grpc::Status RenderServiceImpl::RenderSession(grpc::ServerContext* context, Sess
     // reader has been joined.
     SessionLog log{camerasDropped_, mailbox, metadata.id, frames, failed};
     ReaderThread reader(*context, mailbox, std::thread([&] {
-      readCameraUpdates(*stream, settings.frame, limits_, mailbox);
+      readCameraUpdates(watched, settings.frame, limits_, mailbox);
     }));
     while (std::optional<PendingCamera> next = mailbox.next(cancel)) {
       FrameJob job{metadata.id, metadata.sha256, settings.frame, next->camera};
@@ -313,12 +318,12 @@ grpc::Status RenderServiceImpl::RenderSession(grpc::ServerContext* context, Sess
         // The session goes on: the next camera may well be drawable.
         v1::SessionResponse message;
         *message.mutable_error() = frameError(next->sequence);
-        send(*stream, message);
+        send(watched, message);
         ++failed;
         continue;
       }
       frame.header.set_sequence(next->sequence);
-      sendFrame<v1::SessionResponse>(*stream, frame.header, frame.bytes, cancel);
+      sendFrame<v1::SessionResponse>(watched, frame.header, frame.bytes, cancel);
       framesRendered_.add({"RenderSession", format});
       imageBytesSent_.add({"RenderSession"}, double(frame.bytes.size()));
       ++frames;

@@ -13,6 +13,7 @@
 #include "server/mesh_repository.h"
 #include "server/metrics.h"
 #include "server/render_backend.h"
+#include "server/stream_watch.h"
 #include "server/tessellate_request.h"
 #include "tessera/v1/render.grpc.pb.h"
 
@@ -20,7 +21,7 @@ namespace tessera::server {
 
 class RenderServiceImpl final : public tessera::v1::RenderService::Service {
  public:
-  RenderServiceImpl(MeshRepository& repository, AdmissionControl& admission, RenderBackend& backend,
+  RenderServiceImpl(MeshRepository& repository, AdmissionControl& admission, StreamWatch& streams, RenderBackend& backend,
                     const BearerAuth& auth, const TessellationLimits& limits,
                     MetricsRegistry& registry);
 
@@ -44,6 +45,7 @@ class RenderServiceImpl final : public tessera::v1::RenderService::Service {
 
   MeshRepository& repository_;
   AdmissionControl& admission_;
+  StreamWatch& streams_;
   RenderBackend& backend_;
   const BearerAuth& auth_;
   const TessellationLimits limits_;

@@ -81,7 +81,7 @@ uint64_t LatestCameraMailbox::dropped() const {
   return dropped_;
 }
 
-void readCameraUpdates(SessionStream& stream, const FrameSettings& settings,
+void readCameraUpdates(Watched<SessionStream>& stream, const FrameSettings& settings,
                        const TessellationLimits& limits, LatestCameraMailbox& mailbox) noexcept {
   try {
     v1::SessionRequest message;

@@ -15,6 +15,7 @@
 #include "server/cancellation.h"
 #include "server/render_backend.h"
 #include "server/status_error.h"
+#include "server/stream_watch.h"
 #include "server/tessellate_request.h"
 #include "tessera/v1/render.grpc.pb.h"
 
@@ -61,7 +62,7 @@ using SessionStream =
 // half-closes or the call ends, numbers and checks each camera (render_request.h) and posts it.
 // A malformed message fails the mailbox with INVALID_ARGUMENT naming the update and stops
 // reading. Always finishes the mailbox; never throws.
-void readCameraUpdates(SessionStream& stream, const FrameSettings& settings,
+void readCameraUpdates(Watched<SessionStream>& stream, const FrameSettings& settings,
                        const TessellationLimits& limits, LatestCameraMailbox& mailbox) noexcept;
 
 }  // namespace tessera::server

@@ -21,6 +21,7 @@
 #include "server/request_observer.h"
 #include "server/server_info_service.h"
 #include "server/store_health.h"
+#include "server/stream_watch.h"
 #include "server/tessellation_service.h"
 #include "server/cpu_engine.h"
 #include "server/patch_set_cache.h"
@@ -96,7 +97,13 @@ v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngi
 }
 
 void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repository,
-                            const PatchSetCache& patches, AdmissionControl& admission) {
+                            const PatchSetCache& patches, AdmissionControl& admission,
+                            const StreamWatch& streams) {
+  registry.sampled("tessera_open_streams", "Streaming calls open.", "gauge",
+                   [&] { return double(streams.openCalls()); });
+  registry.sampled("tessera_streams_cancelled_total",
+                   "Streaming calls cancelled because their client sent or read nothing for too long.",
+                   "counter", [&] { return double(streams.cancelledCalls()); });
   registry.sampled("tessera_cache_hits_total", "Mesh cache lookups that found the mesh.",
                    "counter", [&] { return double(repository.cacheStats().hits); });
   registry.sampled("tessera_cache_misses_total", "Mesh cache lookups that had to load it.",
@@ -216,6 +223,10 @@ int runServer(const ServerConfig& config) {
   ServerMetrics metrics(registry);
   MeshRepository repository(*store, static_cast<size_t>(config.cacheBytes));
   AdmissionControl admission(config.maxConcurrentJobs, config.maxQueuedJobs);
+  StreamWatch streams(StreamWatch::Limits{
+      config.maxOpenStreams,
+      std::chrono::duration_cast<StreamWatch::Clock::duration>(std::chrono::duration<double>(config.streamIdleSeconds)),
+      std::chrono::duration_cast<StreamWatch::Clock::duration>(std::chrono::duration<double>(config.sessionIdleSeconds))});
   PatchSetCache patches(static_cast<size_t>(config.patchCacheBytes));
   std::unique_ptr<TessellationEngine> engine = makeEngine(config, patches);
   // Probed now so that GetServerInfo can name the device; the renderer itself is created by the
@@ -223,12 +234,12 @@ int runServer(const ServerConfig& config) {
   std::unique_ptr<RenderBackend> renderer =
       makeRenderBackend(patches, /*probeDevice=*/true);
   BearerAuth auth(config.token);
-  registerSampledMetrics(registry, repository, patches, admission);
+  registerSampledMetrics(registry, repository, patches, admission, streams);
 
-  MeshServiceImpl meshService(repository, admission, auth, config.upload, metrics);
-  TessellationServiceImpl tessellationService(repository, admission, *engine, auth,
+  MeshServiceImpl meshService(repository, admission, streams, auth, config.upload, metrics);
+  TessellationServiceImpl tessellationService(repository, admission, streams, *engine, auth,
                                               config.tessellation, metrics);
-  RenderServiceImpl renderService(repository, admission, *renderer, auth, config.tessellation,
+  RenderServiceImpl renderService(repository, admission, streams, *renderer, auth, config.tessellation,
                                   registry);
   ServerInfoServiceImpl infoService(describeServer(config, *engine, *renderer, store->kind()),
                                     auth);

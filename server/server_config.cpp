@@ -79,6 +79,18 @@ void addLimitOptions(CLI::App& app, ServerConfig& c) {
                          "Heavy jobs waiting; more are refused (negative: 4 per running job)")
               ->capture_default_str()->group(group),
           "TESSERA_MAX_QUEUED_JOBS");
+  withEnv(app.add_option("--max-open-streams", c.maxOpenStreams,
+                         "Streaming calls open at once; more are refused")
+              ->capture_default_str()->group(group),
+          "TESSERA_MAX_OPEN_STREAMS");
+  withEnv(app.add_option("--stream-idle-timeout", c.streamIdleSeconds,
+                         "Seconds a stream's client may take to send its next message or read ours")
+              ->capture_default_str()->group(group),
+          "TESSERA_STREAM_IDLE_TIMEOUT");
+  withEnv(app.add_option("--session-idle-timeout", c.sessionIdleSeconds,
+                         "Seconds a render session may go without a camera update")
+              ->capture_default_str()->group(group),
+          "TESSERA_SESSION_IDLE_TIMEOUT");
 }
 
 }  // namespace
@@ -146,6 +158,10 @@ void finalizeServerConfig(ServerConfig& c) {
   }
   if (c.maxQueuedJobs < 0) c.maxQueuedJobs = 4 * c.maxConcurrentJobs;
   requirePositive(c.maxConcurrentJobs, "--max-concurrent-jobs");
+  requirePositive(c.maxOpenStreams, "--max-open-streams");
+  if (!(c.streamIdleSeconds > 0) || !(c.sessionIdleSeconds > 0)) {
+    throw std::invalid_argument("--stream-idle-timeout and --session-idle-timeout must be positive");
+  }
   requirePositive(c.upload.maxUploadBytes, "--max-upload-bytes");
   requirePositive(c.upload.mesh.maxVertices, "--max-vertices");
   requirePositive(c.upload.mesh.maxFaces, "--max-faces");

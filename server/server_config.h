@@ -30,6 +30,9 @@ struct ServerConfig {
   int maxConcurrentJobs = 0;  // 0: the number of hardware threads
   int maxQueuedJobs = -1;     // negative: 4 x maxConcurrentJobs
   double shutdownGraceSeconds = 5.0;
+  int maxOpenStreams = 256;              // streaming calls open at once (server/stream_watch.h)
+  double streamIdleSeconds = 30.0;       // a stream's client may take this long to send or read
+  double sessionIdleSeconds = 600.0;     // a render session's client, between cameras
   UploadLimits upload;
   TessellationLimits tessellation;
   std::string testEngine;  // hidden: "block" or "pattern", for the server's own tests

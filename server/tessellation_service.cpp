@@ -17,7 +17,7 @@ namespace v1 = tessera::v1;
 // The API's promise (tessellation.proto): no GlbChunk carries more than 64 KiB.
 constexpr size_t kGlbChunkBytes = 64 * 1024;
 
-using Writer = grpc::ServerWriter<v1::TessellateResponse>;
+using Writer = Watched<grpc::ServerWriter<v1::TessellateResponse>>;
 
 // A failed write means the client is gone; nothing more can reach it.
 void send(Writer& writer, const v1::TessellateResponse& message) {
@@ -93,9 +93,12 @@ void sendSummary(Writer& writer, const TessellationOutput& output, const Tessell
 
 grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
                                                  const v1::TessellateRequest* request,
-                                                 Writer* writer) {
+                                                 grpc::ServerWriter<v1::TessellateResponse>* stream) {
   return guardCall(*context, auth_, [&] {
     checkTessellateRequest(*request, limits_);
+    StreamWatch::Call call = streams_.open(*context, "Tessellate");
+    Writer watched(*stream, call);
+    Writer* writer = &watched;
     std::string id = meshIdFromName(request->name(), "name");
     MeshMetadata metadata = repository_.metadata(id);
     TessellationJob job = planTessellationJob(*request, metadata, limits_);

@@ -7,6 +7,7 @@
 #include "server/bearer_auth.h"
 #include "server/mesh_repository.h"
 #include "server/server_metrics.h"
+#include "server/stream_watch.h"
 #include "server/tessellate_request.h"
 #include "server/tessellation_engine.h"
 #include "tessera/v1/tessellation.grpc.pb.h"
@@ -15,10 +16,10 @@ namespace tessera::server {
 
 class TessellationServiceImpl final : public tessera::v1::TessellationService::Service {
  public:
-  TessellationServiceImpl(MeshRepository& repository, AdmissionControl& admission,
+  TessellationServiceImpl(MeshRepository& repository, AdmissionControl& admission, StreamWatch& streams,
                           TessellationEngine& engine, const BearerAuth& auth,
                           const TessellationLimits& limits, ServerMetrics& metrics)
-      : repository_(repository), admission_(admission), engine_(engine), auth_(auth),
+      : repository_(repository), admission_(admission), streams_(streams), engine_(engine), auth_(auth),
         limits_(limits), metrics_(metrics) {}
 
   grpc::Status Tessellate(grpc::ServerContext* context,
@@ -28,6 +29,7 @@ class TessellationServiceImpl final : public tessera::v1::TessellationService::S
  private:
   MeshRepository& repository_;
   AdmissionControl& admission_;
+  StreamWatch& streams_;
   TessellationEngine& engine_;
   const BearerAuth& auth_;
   const TessellationLimits limits_;
