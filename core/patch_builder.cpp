@@ -4,6 +4,7 @@
 // extraordinary rings, which we gather in CER order with the lattice walker.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -117,7 +118,8 @@ bool isIrregularVertex(const Far::TopologyLevel& level, Index v) {
 
 class PatchSetBuilder {
  public:
-  PatchSetBuilder(const ControlMesh& mesh) : mesh_(mesh) {}
+  PatchSetBuilder(const ControlMesh& mesh, const std::function<void()>& checkpoint)
+      : mesh_(mesh), checkpoint_(checkpoint) {}
   PatchSet build();
 
  private:
@@ -126,7 +128,12 @@ class PatchSetBuilder {
   void buildRings();
   void addRing(int level, Index ev);
 
+  void checkpointNow() const {
+    if (checkpoint_) checkpoint_();
+  }
+
   const ControlMesh& mesh_;
+  const std::function<void()>& checkpoint_;
   std::unique_ptr<Far::TopologyRefiner> refiner_;
   std::vector<Vec3d> positions_;
   std::vector<int> levelOffsets_;
@@ -214,13 +221,17 @@ void PatchSetBuilder::buildRings() {
                          " irregular corners after isolation; only isolated features are supported");
       }
     }
-    for (Index ev : evs) addRing(levelIndex, ev);
+    for (Index ev : evs) {
+      checkpointNow();
+      addRing(levelIndex, ev);
+    }
   }
 }
 
 PatchSet PatchSetBuilder::build() {
   validateControlMesh(mesh_);
   requireManifold(mesh_);
+  checkpointNow();
   refiner_ = createTopologyRefiner(mesh_);
   int isolation = isolationLevelFor(mesh_);
   Far::PatchTableFactory::Options options(isolation);
@@ -232,7 +243,9 @@ PatchSet PatchSetBuilder::build() {
   auto adaptive = options.GetRefineAdaptiveOptions();
   adaptive.SetSecondaryLevel(2);
   refiner_->RefineAdaptive(adaptive);
+  checkpointNow();
   std::unique_ptr<Far::PatchTable> table(Far::PatchTableFactory::Create(*refiner_, options));
+  checkpointNow();
 
   positions_ = refinedPositions(*refiner_, mesh_.positions);
   levelOffsets_.assign(1, 0);
@@ -275,7 +288,8 @@ PatchSet PatchSetBuilder::build() {
   }
   result_.boundsMin = lo, result_.boundsMax = hi;
   auto surface = std::make_shared<AdaptiveSurface>();
-  surface->tree = buildSurfaceTree(result_, mesh_);
+  surface->tree = buildSurfaceTree(result_, mesh_, checkpoint_);
+  checkpointNow();
   surface->seams = SeamTopology(mesh_);
   surface->rootSeams = RootSeams(surface->tree, surface->seams);
   surface->lines = SeamLines(surface->tree, surface->seams, mesh_.vertexCount());
@@ -285,6 +299,8 @@ PatchSet PatchSetBuilder::build() {
 
 }  // namespace
 
-PatchSet buildPatchSet(const ControlMesh& mesh) { return PatchSetBuilder(mesh).build(); }
+PatchSet buildPatchSet(const ControlMesh& mesh, const std::function<void()>& checkpoint) {
+  return PatchSetBuilder(mesh, checkpoint).build();
+}
 
 }  // namespace tessera

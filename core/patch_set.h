@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -94,7 +95,9 @@ struct PatchSet {
 
 // Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).
 // Throws TesseraError for unsupported input (non-manifold topology, features that cannot be
-// reduced to the canonical pieces).
-PatchSet buildPatchSet(const ControlMesh& mesh);
+// reduced to the canonical pieces). `checkpoint`, when given, is called between stages and every
+// ring and root or so (well under a second apart on any mesh the limits admit) and may throw to
+// abandon the work: how a server stops preprocessing for a call that was cancelled.
+PatchSet buildPatchSet(const ControlMesh& mesh, const std::function<void()>& checkpoint = {});
 
 }  // namespace tessera

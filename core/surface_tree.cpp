@@ -88,7 +88,8 @@ struct NodeFit {
 
 class TreeBuilder {
  public:
-  TreeBuilder(const PatchSet& patches, const ControlMesh& mesh) : patches_(patches), mesh_(mesh) {}
+  TreeBuilder(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint)
+      : patches_(patches), mesh_(mesh), checkpoint_(checkpoint) {}
   SurfaceTree build();
 
  private:
@@ -130,8 +131,13 @@ class TreeBuilder {
   BezierNet leafNet(const SurfaceNode& node) const;
   BezierNet netOrStandIn(const SurfaceNode& node, double& r) const;
 
+  void checkpointNow() const {
+    if (checkpoint_) checkpoint_();
+  }
+
   const PatchSet& patches_;
   const ControlMesh& mesh_;
+  const std::function<void()>& checkpoint_;
   SurfaceTree tree_;
   std::vector<ChainStep> chainSteps_;  // EV quadrants being built: node index → step
   std::vector<int32_t> chainOf_;
@@ -207,6 +213,7 @@ void TreeBuilder::refineRings() {
   ringLevels_.assign(rings.size(), {});
   std::vector<std::vector<float>> levels(rings.size());
   tbb::parallel_for(size_t(0), rings.size(), [&](size_t r) {
+    checkpointNow();
     const RingRules rules = rings.rules(r);
     const size_t refinedFloats = 3 * size_t(rules.shape.refinedPointCount());
     std::vector<float>& kept = levels[r];
@@ -675,6 +682,7 @@ SurfaceTree TreeBuilder::build() {
   tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
     const uint32_t root = tree_.roots[r].node;
     if (root == kNoNode) return;
+    checkpointNow();
     summarize(root, 0);
     std::vector<Ancestor> path;
     directPairBounds(root, 0, 0, 0, path);
@@ -691,8 +699,8 @@ size_t SurfaceTree::bytes() const {
          refinedLevels.size() * sizeof(float);
 }
 
-SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh) {
-  return TreeBuilder(patches, mesh).build();
+SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint) {
+  return TreeBuilder(patches, mesh, checkpoint).build();
 }
 
 }  // namespace tessera

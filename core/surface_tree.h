@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/bezier_net.h"
@@ -106,7 +107,8 @@ struct SurfaceTree {
 
 // Builds the tree for a patch set. Each EV chain goes down until its stand-in bound is below
 // kChainFloor times the bounding-box diagonal (or the depth tables end).
-SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh);
+// `checkpoint` (may be empty) is called for every ring and root and may throw to abandon the build.
+SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint);
 
 inline constexpr double kChainFloor = 1e-7;
 

@@ -40,7 +40,7 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
   TessellationOutput output;
   auto start = Clock::now();
   progress("preprocessing", 0.0);
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel);
   output.summary.timings.push_back({"preprocess", seconds(start)});
   cancel.throwIfCancelled();
 

@@ -26,10 +26,10 @@ size_t bytesOf(const PatchSet& set) {
 }  // namespace
 
 std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, const std::string& meshId,
-                                                   const std::string& meshSha256) {
+                                                   const std::string& meshSha256, const CancellationToken& cancel) {
   const std::string key = meshId + "@" + meshSha256;
   if (auto cached = cache_.find(key)) return cached;
-  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh));
+  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, [&cancel] { cancel.throwIfCancelled(); }));
   cache_.insert(key, built, bytesOf(*built));
   return built;
 }

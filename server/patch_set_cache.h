@@ -8,6 +8,7 @@
 
 #include "core/control_mesh.h"
 #include "core/patch_set.h"
+#include "server/cancellation.h"
 #include "server/lru_cache.h"
 
 namespace tessera::server {
@@ -17,9 +18,10 @@ class PatchSetCache {
   explicit PatchSetCache(size_t byteBudget) : cache_(byteBudget) {}
 
   // The mesh's patch set, built on a miss. Keyed by id and content hash, so a mesh re-uploaded
-  // under the same id never meets a stale entry. Throws what buildPatchSet throws.
+  // under the same id never meets a stale entry. Throws what buildPatchSet throws, and
+  // OperationCancelled when `cancel` fires while building (nothing is cached then).
   std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshId,
-                                      const std::string& meshSha256);
+                                      const std::string& meshSha256, const CancellationToken& cancel);
   CacheStats stats() const { return cache_.stats(); }
 
  private:

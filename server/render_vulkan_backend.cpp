@@ -157,7 +157,7 @@ RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJo
                                           const CancellationToken& cancel) {
   RenderedFrame out;
   Clock::time_point planStart = Clock::now();
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel);
   cancel.throwIfCancelled();
   gpu::PreparedFrame prepared = gpu::prepareFrame(*patches, frameRequestFor(job));
   out.times.planMs = millisecondsSince(planStart);
