@@ -7,9 +7,11 @@
 // Each level of a concurrency sweep runs that many workers in a closed loop; --rate releases
 // requests at fixed times instead (open loop) onto --concurrency workers (default 32). A level
 // ends after --requests or --duration, whichever comes first, and every call has a deadline
-// (--timeout), so a run always ends. Per level it reports throughput, p50/p90/p95/p99/max latency
-// of the successful calls, request and response bytes (serialized protobuf messages, without
-// HTTP/2 framing) and errors by gRPC status code.
+// (--timeout), so a run always ends. Per level it reports throughput offered (every request) and
+// useful (the successful ones), p50/p90/p95/p99/max latency of the successful calls, request and
+// response bytes (serialized protobuf messages, without HTTP/2 framing) and errors by gRPC status
+// code. A closed-loop worker refused with a retry hint (grpc-retry-pushback-ms: the server is
+// busy) waits 0.5–1.5 times the hint before its next request, as a well-behaved client does.
 //
 // Channels: by default every worker has a channel, and so a TCP connection, of its own: N workers
 // stand for N independent clients, which is what a server sees in production, and no worker

@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 #include <openssl/evp.h>
 
+#include <cstdlib>
+#include <string>
+
 #include "tessera/status_names.h"
 
 namespace tessera::cli {
@@ -12,6 +15,13 @@ namespace v1 = tessera::v1;
 
 int64_t sizeOf(const google::protobuf::Message& message) {
   return static_cast<int64_t>(message.ByteSizeLong());
+}
+
+// The retry hint a refusal carries (0 without one).
+int64_t pushbackMs(const grpc::ClientContext& context) {
+  const auto& trailers = context.GetServerTrailingMetadata();
+  const auto hint = trailers.find("grpc-retry-pushback-ms");
+  return hint == trailers.end() ? 0 : std::strtoll(std::string(hint->second.data(), hint->second.size()).c_str(), nullptr, 10);
 }
 
 // Incremental SHA-256 of the GLB as it streams in, so that the client holds no copy of it.
@@ -89,6 +99,7 @@ CallOutcome BenchClient::call(BenchOp op, uint64_t sequence) {
       prepare(context);
       v1::Mesh response;
       outcome.code = meshes_->GetMesh(&context, request, &response).error_code();
+      outcome.retryAfterMs = pushbackMs(context);
       outcome.bytesSent = sizeOf(request);
       outcome.bytesReceived = sizeOf(response);
       return outcome;
@@ -97,6 +108,7 @@ CallOutcome BenchClient::call(BenchOp op, uint64_t sequence) {
       prepare(context);
       v1::ListMeshesResponse response;
       outcome.code = meshes_->ListMeshes(&context, requests_.list, &response).error_code();
+      outcome.retryAfterMs = pushbackMs(context);
       outcome.bytesSent = sizeOf(requests_.list);
       outcome.bytesReceived = sizeOf(response);
       return outcome;
@@ -106,6 +118,7 @@ CallOutcome BenchClient::call(BenchOp op, uint64_t sequence) {
       v1::GetServerInfoRequest request;
       v1::ServerInfo response;
       outcome.code = info_->GetServerInfo(&context, request, &response).error_code();
+      outcome.retryAfterMs = pushbackMs(context);
       outcome.bytesSent = sizeOf(request);
       outcome.bytesReceived = sizeOf(response);
       return outcome;
@@ -137,6 +150,7 @@ CallOutcome BenchClient::tessellate(const v1::TessellateRequest& request) {
     }
   }
   outcome.code = reader->Finish().error_code();
+  outcome.retryAfterMs = pushbackMs(context);
   if (summary) {
     outcome.serverSeconds = 0;
     for (const v1::StageTiming& stage : summary->timings())

@@ -38,6 +38,8 @@ struct CallOutcome {
   // Tessellate: the stage timings the server reports in its summary, added up (the computation
   // without queueing and transfer); negative for other calls.
   double serverSeconds = -1;
+  // The server's grpc-retry-pushback-ms on a refusal (it is busy: retry no sooner); 0 if none.
+  int64_t retryAfterMs = 0;
   bool ok() const { return code == grpc::StatusCode::OK && !badStream; }
   // A gRPC status code name ("RESOURCE_EXHAUSTED"), or "BAD_STREAM"; "OK" when ok().
   std::string errorName() const;

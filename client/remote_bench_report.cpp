@@ -11,7 +11,7 @@ namespace tessera::cli {
 namespace {
 
 constexpr const char* kRowFormat =
-    "{:>12} {:<11} {:>9} {:>7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10}\n";
+    "{:>12} {:<11} {:>9} {:>7} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>10} {:>10}\n";
 
 void add(OperationStats& stats, const Sample& sample) {
   ++stats.requests;
@@ -54,6 +54,7 @@ void printRow(std::ostream& out, const std::string& label, std::string_view op,
   const LatencySummary& l = s.latency;
   out << fmt::format(kRowFormat, label, op, s.requests, s.requests - s.ok,
                      fmt::format("{:.1f}", seconds > 0 ? double(s.requests) / seconds : 0.0),
+                     fmt::format("{:.1f}", seconds > 0 ? double(s.ok) / seconds : 0.0),
                      milliseconds(l, l.p50), milliseconds(l, l.p90), milliseconds(l, l.p95),
                      milliseconds(l, l.p99), milliseconds(l, l.max), humanBytes(s.bytesSent),
                      humanBytes(s.bytesReceived));
@@ -71,6 +72,7 @@ nlohmann::json toJson(const OperationStats& s, double seconds) {
                          {"ok", s.ok},
                          {"errors", s.errors},
                          {"throughput_rps", seconds > 0 ? double(s.requests) / seconds : 0.0},
+                         {"ok_rps", seconds > 0 ? double(s.ok) / seconds : 0.0},
                          {"latency_ms", toJson(s.latency)},
                          {"bytes_sent", s.bytesSent},
                          {"bytes_received", s.bytesReceived}};
@@ -116,7 +118,7 @@ LevelResult summarizeLevel(const LoadLevel& level, const PhaseResult& phase) {
 
 void printTableHeader(std::ostream& out, bool rateMode) {
   out << fmt::format(kRowFormat, rateMode ? "RATE" : "CONCURRENCY", "OPERATION", "REQUESTS",
-                     "ERRORS", "REQ/S", "P50 MS", "P90 MS", "P95 MS", "P99 MS", "MAX MS", "SENT",
+                     "ERRORS", "REQ/S", "OK/S", "P50 MS", "P90 MS", "P95 MS", "P99 MS", "MAX MS", "SENT",
                      "RECEIVED");
 }
 

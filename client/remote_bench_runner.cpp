@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <random>
 #include <thread>
 
 namespace tessera::cli {
@@ -14,9 +15,14 @@ double secondsBetween(Clock::time_point from, Clock::time_point to) {
 }
 
 // One worker's loop: claims request numbers from next until the phase's count or time runs out.
+// Closed-loop workers honour a busy server's retry hint, waiting 0.5–1.5 times it (jittered, so
+// that refused workers do not come back together) before their next request; at a fixed rate
+// the schedule is the load offered, and it is kept.
 std::vector<Sample> work(BenchClient& client, const std::vector<BenchOp>& schedule,
                          const LoadLevel& level, const PhaseLimits& limits, Clock::time_point start,
-                         std::atomic<int64_t>& next) {
+                         std::atomic<int64_t>& next, unsigned seed) {
+  std::minstd_rand jitter(seed);
+  std::uniform_real_distribution<double> factor(0.5, 1.5);
   std::vector<Sample> samples;
   const auto end = start + std::chrono::duration_cast<Clock::duration>(limits.duration);
   while (true) {
@@ -36,6 +42,10 @@ std::vector<Sample> work(BenchClient& client, const std::vector<BenchOp>& schedu
     CallOutcome outcome = client.call(op, static_cast<uint64_t>(i));
     const Clock::time_point done = Clock::now();
     samples.push_back({op, secondsBetween(sent, done), secondsBetween(start, done), outcome});
+    if (!level.rate && outcome.retryAfterMs > 0) {
+      const auto wait = std::chrono::duration<double, std::milli>(double(outcome.retryAfterMs) * factor(jitter));
+      std::this_thread::sleep_until(std::min(end, done + std::chrono::duration_cast<Clock::duration>(wait)));
+    }
   }
   return samples;
 }
@@ -53,7 +63,7 @@ PhaseResult runPhase(const std::vector<BenchClient*>& clients, const std::vector
     threads.reserve(perWorker.size());
     for (int w = 0; w < workers; ++w) {
       threads.emplace_back(
-          [&, w] { perWorker[w] = work(*clients[w], schedule, level, limits, start, next); });
+          [&, w] { perWorker[w] = work(*clients[w], schedule, level, limits, start, next, unsigned(w) + 1); });
     }
   }  // joins
   PhaseResult result;

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
 
@@ -147,6 +149,27 @@ TEST_F(CliTest, TheTokenComesFromTheEnvironment) {
   EXPECT_TRUE(contains(refused.output, "UNAUTHENTICATED")) << refused.output;
   CliRun accepted = tessera("list", "TESSERA_TOKEN=cli-secret");
   EXPECT_EQ(accepted.code, kExitOk) << accepted.output;
+}
+
+// A busy server refuses with a retry hint (grpc-retry-pushback-ms); the load tester's workers wait
+// that long (jittered) before their next request instead of hammering it, and report the useful
+// throughput beside the offered one. One job slot, no queue, jobs that last the call's 1 s
+// deadline: four workers for 3 s get a handful of refusals each when they back off (the hint is
+// about a job's length), thousands when they do not.
+TEST_F(CliTest, BenchBacksOffWhenTheServerIsBusy) {
+  startServer({"--test-engine", "block", "--max-concurrent-jobs", "1", "--max-queued-jobs", "0"});
+  auto meshes = v1::MeshService::NewStub(server_->channel());
+  ASSERT_TRUE(uploadMessages(*meshes, arraysUpload("grid", gridMesh(4, 0))).status.ok());
+  const std::filesystem::path json = dir_.path() / "bench.json";
+  CliRun run = tessera("bench --mix tessellate=1 --mesh meshes/grid --tolerance 0.01 --relative "
+                       "--concurrency 4 --requests 1000000 --duration 3s --timeout 1s --json " + json.string());
+  ASSERT_TRUE(std::filesystem::exists(json)) << run.output;
+  const nlohmann::json level = nlohmann::json::parse(readFile(json))["levels"][0];
+  const int64_t refused = level["errors"].value("RESOURCE_EXHAUSTED", int64_t(0));
+  EXPECT_GT(refused, 0) << level.dump();
+  EXPECT_LT(refused, 400) << level.dump();
+  EXPECT_TRUE(level.contains("ok_rps")) << level.dump();
+  EXPECT_TRUE(contains(run.output, "OK/S")) << run.output;
 }
 
 }  // namespace
