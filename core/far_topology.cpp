@@ -1,5 +1,8 @@
 #include "core/far_topology.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
@@ -93,6 +96,27 @@ float maxSemiSharpness(const ControlMesh& mesh) {
     if (c.sharpness < kInfiniteSharpness) result = std::max(result, c.sharpness);
   }
   return result;
+}
+
+int isolationLevelFor(const ControlMesh& mesh) {
+  int level = std::max(2, int(std::ceil(maxSemiSharpness(mesh))) + 1);
+  return std::min(level, 10);
+}
+
+Far::PatchTableFactory::Options patchTableOptions(int isolation) {
+  Far::PatchTableFactory::Options options(isolation);
+  options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_BILINEAR_BASIS);
+  options.useInfSharpPatch = true;
+  options.useSingleCreasePatch = false;
+  options.generateLegacySharpCornerPatches = false;
+  options.generateVaryingTables = false;
+  return options;
+}
+
+void refineAdaptively(Far::TopologyRefiner& refiner, const Far::PatchTableFactory::Options& options) {
+  auto adaptive = options.GetRefineAdaptiveOptions();
+  adaptive.SetSecondaryLevel(2);
+  refiner.RefineAdaptive(adaptive);
 }
 
 }  // namespace tessera

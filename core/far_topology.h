@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/topologyRefiner.h>
 
 #include "core/control_mesh.h"
@@ -23,5 +24,14 @@ std::vector<Vec3d> refinedPositions(const Far::TopologyRefiner& refiner,
 
 // Largest finite (semi-sharp) sharpness among creases and corners; 0 if none.
 float maxSemiSharpness(const ControlMesh& mesh);
+
+// The feature-adaptive isolation level the patch set needs: smooth EVs need two levels to be
+// isolated, semi-sharp features their sharpness to decay (at most 10).
+int isolationLevelFor(const ControlMesh& mesh);
+
+// The patch table the patch set is made from (bilinear end caps, infinitely sharp patches), to
+// `isolation` levels, and Far's adaptive refinement for it.
+Far::PatchTableFactory::Options patchTableOptions(int isolation);
+void refineAdaptively(Far::TopologyRefiner& refiner, const Far::PatchTableFactory::Options& options);
 
 }  // namespace tessera

@@ -18,18 +18,13 @@
 #include "core/ring_extraction.h"
 #include "core/manifold_check.h"
 #include "core/patch_set.h"
+#include "core/refinement_budget.h"
 
 namespace tessera {
 
 using Far::Index;
 
 namespace {
-
-// Smooth EVs need two levels to be isolated; semi-sharp features need their sharpness to decay.
-int isolationLevelFor(const ControlMesh& mesh) {
-  int level = std::max(2, int(std::ceil(maxSemiSharpness(mesh))) + 1);
-  return std::min(level, 10);
-}
 
 struct PtexFace {
   int baseFace;
@@ -118,8 +113,8 @@ bool isIrregularVertex(const Far::TopologyLevel& level, Index v) {
 
 class PatchSetBuilder {
  public:
-  PatchSetBuilder(const ControlMesh& mesh, const std::function<void()>& checkpoint)
-      : mesh_(mesh), checkpoint_(checkpoint) {}
+  PatchSetBuilder(const ControlMesh& mesh, const PreprocessingOptions& options)
+      : mesh_(mesh), checkpoint_(options.checkpoint), maxRefinedVertices_(options.maxRefinedVertices) {}
   PatchSet build();
 
  private:
@@ -134,6 +129,7 @@ class PatchSetBuilder {
 
   const ControlMesh& mesh_;
   const std::function<void()>& checkpoint_;
+  const int64_t maxRefinedVertices_;
   std::unique_ptr<Far::TopologyRefiner> refiner_;
   std::vector<Vec3d> positions_;
   std::vector<int> levelOffsets_;
@@ -232,17 +228,11 @@ PatchSet PatchSetBuilder::build() {
   validateControlMesh(mesh_);
   requireManifold(mesh_);
   checkpointNow();
+  const int isolation = isolationLevelFor(mesh_);
+  if (maxRefinedVertices_ > 0) requireRefinementWithin(mesh_, maxRefinedVertices_, checkpoint_);
   refiner_ = createTopologyRefiner(mesh_);
-  int isolation = isolationLevelFor(mesh_);
-  Far::PatchTableFactory::Options options(isolation);
-  options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_BILINEAR_BASIS);
-  options.useInfSharpPatch = true;
-  options.useSingleCreasePatch = false;
-  options.generateLegacySharpCornerPatches = false;
-  options.generateVaryingTables = false;
-  auto adaptive = options.GetRefineAdaptiveOptions();
-  adaptive.SetSecondaryLevel(2);
-  refiner_->RefineAdaptive(adaptive);
+  const Far::PatchTableFactory::Options options = patchTableOptions(isolation);
+  refineAdaptively(*refiner_, options);
   checkpointNow();
   std::unique_ptr<Far::PatchTable> table(Far::PatchTableFactory::Create(*refiner_, options));
   checkpointNow();
@@ -299,8 +289,8 @@ PatchSet PatchSetBuilder::build() {
 
 }  // namespace
 
-PatchSet buildPatchSet(const ControlMesh& mesh, const std::function<void()>& checkpoint) {
-  return PatchSetBuilder(mesh, checkpoint).build();
+PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options) {
+  return PatchSetBuilder(mesh, options).build();
 }
 
 }  // namespace tessera

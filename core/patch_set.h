@@ -93,11 +93,20 @@ struct PatchSet {
   std::shared_ptr<const AdaptiveSurface> adaptive;
 };
 
+// What building a patch set may cost. `checkpoint`, when given, is called between stages and for
+// every ring and root (well under a second apart on any mesh the limits admit) and may throw to
+// abandon the work: how a server stops preprocessing for a call that was cancelled.
+// `maxRefinedVertices` (0: no limit) bounds OpenSubdiv's adaptive refinement, the part that grows
+// with semi-sharp creases (core/refinement_budget.h): a mesh over it is refused before the memory
+// is taken.
+struct PreprocessingOptions {
+  std::function<void()> checkpoint;
+  int64_t maxRefinedVertices = 0;
+};
+
 // Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).
 // Throws TesseraError for unsupported input (non-manifold topology, features that cannot be
-// reduced to the canonical pieces). `checkpoint`, when given, is called between stages and every
-// ring and root or so (well under a second apart on any mesh the limits admit) and may throw to
-// abandon the work: how a server stops preprocessing for a call that was cancelled.
-PatchSet buildPatchSet(const ControlMesh& mesh, const std::function<void()>& checkpoint = {});
+// reduced to the canonical pieces) and for a refinement over the options' limit.
+PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options = {});
 
 }  // namespace tessera

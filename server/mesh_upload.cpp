@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/manifold_check.h"
 #include "core/obj_reader.h"
+#include "core/refinement_budget.h"
 #include "server/mesh_names.h"
 #include "server/status_error.h"
 
@@ -158,6 +159,7 @@ AssembledUpload UploadAssembler::finish() {
   try {
     validateControlMesh(mesh, limits_.mesh);
     requireManifold(mesh);
+    requireRefinementWithin(mesh, limits_.maxRefinedVertices, {});
   } catch (const TesseraError& error) {
     rethrowWithPrefix(error, where);
   }

@@ -19,6 +19,10 @@ namespace tessera::server {
 struct UploadLimits {
   int64_t maxUploadBytes = 256 << 20;
   MeshLimits mesh;
+  // OpenSubdiv's adaptive refinement of a mesh (core/refinement_budget.h): ~650 bytes of patch set
+  // per vertex, so the default bounds preprocessing at ~2.6 GB. Checked at upload and again when
+  // a mesh is preprocessed.
+  int64_t maxRefinedVertices = 4'000'000;
 };
 
 struct AssembledUpload {

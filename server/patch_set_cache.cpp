@@ -29,7 +29,8 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, cons
                                                    const std::string& meshSha256, const CancellationToken& cancel) {
   const std::string key = meshId + "@" + meshSha256;
   if (auto cached = cache_.find(key)) return cached;
-  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, [&cancel] { cancel.throwIfCancelled(); }));
+  const PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
   cache_.insert(key, built, bytesOf(*built));
   return built;
 }

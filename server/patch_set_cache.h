@@ -15,7 +15,9 @@ namespace tessera::server {
 
 class PatchSetCache {
  public:
-  explicit PatchSetCache(size_t byteBudget) : cache_(byteBudget) {}
+  // maxRefinedVertices: core's PreprocessingOptions limit, applied to every mesh preprocessed.
+  PatchSetCache(size_t byteBudget, int64_t maxRefinedVertices)
+      : cache_(byteBudget), maxRefinedVertices_(maxRefinedVertices) {}
 
   // The mesh's patch set, built on a miss. Keyed by id and content hash, so a mesh re-uploaded
   // under the same id never meets a stale entry. Throws what buildPatchSet throws, and
@@ -26,6 +28,7 @@ class PatchSetCache {
 
  private:
   LruCache<std::string, PatchSet> cache_;
+  int64_t maxRefinedVertices_;
 };
 
 }  // namespace tessera::server

@@ -82,6 +82,7 @@ v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngi
   limits->set_max_vertices(config.upload.mesh.maxVertices);
   limits->set_max_faces(config.upload.mesh.maxFaces);
   limits->set_max_face_size(config.upload.mesh.maxFaceSize);
+  limits->set_max_refined_vertices(config.upload.maxRefinedVertices);
   limits->set_min_relative_tolerance(config.tessellation.minRelativeTolerance);
   limits->set_min_pixel_accuracy(config.tessellation.minPixelAccuracy);
   limits->set_max_triangles(config.tessellation.maxTriangles);
@@ -227,7 +228,7 @@ int runServer(const ServerConfig& config) {
       config.maxOpenStreams,
       std::chrono::duration_cast<StreamWatch::Clock::duration>(std::chrono::duration<double>(config.streamIdleSeconds)),
       std::chrono::duration_cast<StreamWatch::Clock::duration>(std::chrono::duration<double>(config.sessionIdleSeconds))});
-  PatchSetCache patches(static_cast<size_t>(config.patchCacheBytes));
+  PatchSetCache patches(static_cast<size_t>(config.patchCacheBytes), config.upload.maxRefinedVertices);
   std::unique_ptr<TessellationEngine> engine = makeEngine(config, patches);
   // Probed now so that GetServerInfo can name the device; the renderer itself is created by the
   // first frame.

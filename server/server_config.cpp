@@ -48,6 +48,10 @@ void addLimitOptions(CLI::App& app, ServerConfig& c) {
   withEnv(app.add_option("--max-faces", c.upload.mesh.maxFaces, "Most faces per mesh")
               ->capture_default_str()->group(group),
           "TESSERA_MAX_FACES");
+  withEnv(app.add_option("--max-refined-vertices", c.upload.maxRefinedVertices,
+                         "Most vertices OpenSubdiv's refinement of a mesh may make (~650 bytes each)")
+              ->capture_default_str()->group(group),
+          "TESSERA_MAX_REFINED_VERTICES");
   withEnv(app.add_option("--max-face-size", c.upload.mesh.maxFaceSize, "Most vertices per face")
               ->capture_default_str()->group(group),
           "TESSERA_MAX_FACE_SIZE");
@@ -165,6 +169,7 @@ void finalizeServerConfig(ServerConfig& c) {
   requirePositive(c.upload.maxUploadBytes, "--max-upload-bytes");
   requirePositive(c.upload.mesh.maxVertices, "--max-vertices");
   requirePositive(c.upload.mesh.maxFaces, "--max-faces");
+  requirePositive(c.upload.maxRefinedVertices, "--max-refined-vertices");
   requirePositive(c.tessellation.maxTriangles, "--max-triangles");
   requirePositive(c.tessellation.maxUniformLevel, "--max-uniform-level");
   requirePositive(c.tessellation.maxImagePixels, "--max-image-pixels");

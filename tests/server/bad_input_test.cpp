@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <set>
 #include <thread>
 
 #include "tests/server/server_process.h"
@@ -194,6 +195,22 @@ MeshArrays nonManifoldFan() {
   return m;
 }
 
+// Every edge a semi-sharp crease of sharpness 9.5: ten levels of isolation, each refining the
+// whole surface again (hundreds of millions of vertices for a 20 x 20 grid).
+MeshArrays creasedEverywhere(MeshArrays m) {
+  std::set<std::pair<int32_t, int32_t>> edges;
+  size_t start = 0;
+  for (int32_t size : m.faceSizes) {
+    for (int32_t k = 0; k < size; ++k) {
+      const int32_t a = m.faceVertices[start + size_t(k)], b = m.faceVertices[start + size_t((k + 1) % size)];
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+    start += size_t(size);
+  }
+  for (const auto& [a, b] : edges) m.creases.push_back({a, b, 9.5f});
+  return m;
+}
+
 TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
   const MeshArrays good = gridMesh(3, 0);
   std::vector<Case> cases = {
@@ -335,6 +352,9 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
       {"more faces than the server allows", grpc::StatusCode::RESOURCE_EXHAUSTED,
        "faces; the limit is 2000",
        [&] { return uploadStatus(arraysWith(gridMesh(50, 0))); }},
+      {"creases that would refine it into gigabytes", grpc::StatusCode::RESOURCE_EXHAUSTED,
+       "over the limit of 4000000 (max_refined_vertices)",
+       [&] { return uploadStatus(arraysWith(creasedEverywhere(gridMesh(20, 0)))); }},
       {"duplicate id", grpc::StatusCode::ALREADY_EXISTS, "meshes/target already exists",
        [&] { return uploadStatus(arraysUpload("target", good)); }},
       {"upload without a token", grpc::StatusCode::UNAUTHENTICATED, "missing authorization",
