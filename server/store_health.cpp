@@ -6,6 +6,9 @@ namespace tessera::server {
 
 StoreHealth::StoreHealth(MeshStore& store, std::function<void(bool)> setServing, Timing timing)
     : store_(store), setServing_(std::move(setServing)), timing_(timing) {
+  // The first probe counts as running from now, so that the watcher never reports on none.
+  probing_ = true;
+  probeStart_ = Clock::now();
   prober_ = std::thread([this] { probeLoop(); });
   watcher_ = std::thread([this] { watchLoop(); });
 }

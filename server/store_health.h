@@ -43,7 +43,7 @@ class StoreHealth {
   std::condition_variable wake_;
   bool stopping_ = false;
   bool lastProbeOk_ = false;
-  std::string lastCause_ = "not probed yet";
+  std::string lastCause_;
   bool probing_ = false;
   Clock::time_point probeStart_;
   int published_ = -1;  // the verdict last passed to setServing (-1: none yet)

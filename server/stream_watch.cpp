@@ -13,6 +13,12 @@ namespace {
 
 double seconds(StreamWatch::Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
+// Whether a wait that began at `since` (0: none under way) has lasted longer than limit.
+bool overdue(const std::atomic<int64_t>& since, StreamWatch::Clock::duration limit, StreamWatch::Clock::time_point now) {
+  const int64_t start = since.load();
+  return start != 0 && now - StreamWatch::Clock::time_point(StreamWatch::Clock::duration(start)) > limit;
+}
+
 }  // namespace
 
 StreamWatch::StreamWatch(Limits limits) : limits_(limits) {
@@ -57,11 +63,6 @@ int StreamWatch::openCalls() const {
 uint64_t StreamWatch::cancelledCalls() const {
   std::lock_guard lock(mutex_);
   return cancelled_;
-}
-
-bool StreamWatch::overdue(const std::atomic<int64_t>& since, Clock::duration limit, Clock::time_point now) const {
-  const int64_t start = since.load();
-  return start != 0 && now - Clock::time_point(Clock::duration(start)) > limit;
 }
 
 // Looks often enough to cancel within a quarter of the shortest limit past it (at most 1 s).

@@ -84,7 +84,6 @@ class StreamWatch {
 
  private:
   void watch();
-  bool overdue(const std::atomic<int64_t>& since, Clock::duration limit, Clock::time_point now) const;
 
   const Limits limits_;
   mutable std::mutex mutex_;
