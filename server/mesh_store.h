@@ -4,6 +4,7 @@
 // their meshes).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -53,7 +54,8 @@ class MeshStore {
 };
 
 // Opens the store a --store value names: "sqlite:PATH" or a libpq URI "postgresql://..." /
-// "postgres://...". Throws StoreError when it cannot.
-std::unique_ptr<MeshStore> openMeshStore(const std::string& spec);
+// "postgres://...". Throws StoreError when it cannot. `timeout`: how long a PostgreSQL connection
+// or statement may go without progress before it fails (SQLite is a local file).
+std::unique_ptr<MeshStore> openMeshStore(const std::string& spec, std::chrono::milliseconds timeout);
 
 }  // namespace tessera::server

@@ -7,7 +7,7 @@
 
 namespace tessera::server {
 
-std::unique_ptr<MeshStore> openMeshStore(const std::string& spec) {
+std::unique_ptr<MeshStore> openMeshStore(const std::string& spec, std::chrono::milliseconds timeout) {
   constexpr std::string_view kSqlite = "sqlite:";
   std::string_view s = spec;
   if (s.substr(0, kSqlite.size()) == kSqlite) {
@@ -16,7 +16,7 @@ std::unique_ptr<MeshStore> openMeshStore(const std::string& spec) {
     return std::make_unique<SqliteMeshStore>(path);
   }
   if (s.substr(0, 13) == "postgresql://" || s.substr(0, 11) == "postgres://") {
-    return std::make_unique<PostgresMeshStore>(spec);
+    return std::make_unique<PostgresMeshStore>(spec, timeout);
   }
   throw StoreError("--store must be sqlite:PATH or a postgresql:// URI (got \"" + spec + "\")");
 }

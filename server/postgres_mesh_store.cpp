@@ -3,6 +3,10 @@
 #include <fmt/format.h>
 #include <libpq-fe.h>
 
+#include <poll.h>
+
+#include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <utility>
 
@@ -47,12 +51,46 @@ class Params {
   std::vector<int> formats_;
 };
 
-ResultPtr run(PGconn* c, const std::string& sql, const Params& params = {}) {
+[[noreturn]] void fail(PGconn* c, const char* what) {
+  std::string message = PQerrorMessage(c);
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  throw StoreError(fmt::format("postgresql: {}: {}", what, message));
+}
+
+// Waits until the connection's socket is ready for `events`, or the store's timeout passes with
+// nothing: a frozen database (a stopped backend, a network dropping everything) must not hold the
+// calling thread, and the client's call, without end. The connection is left mid-statement, so
+// release() drops it.
+void await(PGconn* c, short events, std::chrono::milliseconds timeout) {
+  pollfd fd{PQsocket(c), events, 0};
+  const int ready = ::poll(&fd, 1, int(timeout.count()));
+  if (ready == 0) throw StoreError(fmt::format("postgresql: no answer within {} ms", timeout.count()));
+  if (ready < 0 && errno != EINTR) throw StoreError("postgresql: poll failed");
+}
+
+// One statement, sent and answered without blocking past `timeout` of silence at any step.
+ResultPtr execute(PGconn* c, const std::string& sql, const Params& params, std::chrono::milliseconds timeout) {
   auto values = params.pointers();
   auto lengths = params.lengths();
-  ResultPtr result(PQexecParams(c, sql.c_str(), params.size(), nullptr, values.data(),
-                                lengths.data(), params.formats().data(), 0),
-                   &PQclear);
+  if (!PQsendQueryParams(c, sql.c_str(), params.size(), nullptr, values.data(), lengths.data(),
+                         params.formats().data(), 0)) {
+    fail(c, "cannot send a statement");
+  }
+  for (int pending; (pending = PQflush(c)) != 0;) {
+    if (pending < 0) fail(c, "cannot send a statement");
+    await(c, POLLOUT | POLLIN, timeout);
+    if (!PQconsumeInput(c)) fail(c, "connection lost");
+  }
+  ResultPtr result(nullptr, &PQclear);
+  for (;;) {
+    while (PQisBusy(c)) {
+      await(c, POLLIN, timeout);
+      if (!PQconsumeInput(c)) fail(c, "connection lost");
+    }
+    PGresult* next = PQgetResult(c);
+    if (!next) break;
+    result.reset(next);
+  }
   ExecStatusType status = result ? PQresultStatus(result.get()) : PGRES_FATAL_ERROR;
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) {
     std::string message = result ? PQresultErrorMessage(result.get()) : PQerrorMessage(c);
@@ -132,14 +170,18 @@ class PostgresMeshStore::Lease {
     if (c_) store_->release(c_);
   }
   PGconn* get() const { return c_; }
+  // One statement on this connection, within the store's timeout.
+  ResultPtr run(const std::string& sql, const Params& params = {}) const {
+    return execute(c_, sql, params, store_->timeout_);
+  }
 
  private:
   PostgresMeshStore* store_;
   PGconn* c_;
 };
 
-PostgresMeshStore::PostgresMeshStore(std::string conninfo, int poolSize)
-    : conninfo_(std::move(conninfo)), poolSize_(static_cast<size_t>(std::max(poolSize, 1))) {
+PostgresMeshStore::PostgresMeshStore(std::string conninfo, std::chrono::milliseconds timeout, int poolSize)
+    : conninfo_(std::move(conninfo)), timeout_(timeout), poolSize_(static_cast<size_t>(std::max(poolSize, 1))) {
   createSchema();
 }
 
@@ -148,7 +190,16 @@ PostgresMeshStore::~PostgresMeshStore() {
 }
 
 PGconn* PostgresMeshStore::connect() {
-  PGconn* c = PQconnectdb(conninfo_.c_str());
+  // The URI first, then a connect timeout (whole seconds, at least 2: libpq's own floor) that a
+  // frozen database cannot stretch.
+  const std::string seconds = std::to_string(std::max<int64_t>(2, (timeout_.count() + 999) / 1000));
+  const char* keywords[] = {"dbname", "connect_timeout", nullptr};
+  const char* values[] = {conninfo_.c_str(), seconds.c_str(), nullptr};
+  PGconn* c = PQconnectdbParams(keywords, values, /*expand_dbname=*/1);
+  if (PQstatus(c) == CONNECTION_OK && PQsetnonblocking(c, 1) != 0) {
+    PQfinish(c);
+    throw StoreError("cannot connect to PostgreSQL store: cannot make the connection non-blocking");
+  }
   if (PQstatus(c) != CONNECTION_OK) {
     std::string message = c ? PQerrorMessage(c) : "out of memory";
     while (!message.empty() && message.back() == '\n') message.pop_back();
@@ -192,18 +243,17 @@ void PostgresMeshStore::release(PGconn* c) {
 
 void PostgresMeshStore::createSchema() {
   Lease lease = acquire();
-  PGconn* c = lease.get();
-  run(c, "SET client_min_messages = warning");
-  run(c, fmt::format("SELECT pg_advisory_lock({})", kSchemaLockKey));
+  lease.run("SET client_min_messages = warning");
+  lease.run(fmt::format("SELECT pg_advisory_lock({})", kSchemaLockKey));
   try {
-    run(c, "CREATE TABLE IF NOT EXISTS tessera_schema (version INTEGER NOT NULL)");
-    ResultPtr version = run(c, "SELECT coalesce(max(version), 0) FROM tessera_schema");
+    lease.run("CREATE TABLE IF NOT EXISTS tessera_schema (version INTEGER NOT NULL)");
+    ResultPtr version = lease.run("SELECT coalesce(max(version), 0) FROM tessera_schema");
     int64_t found = integerAt(version.get(), 0, 0);
     if (found > schema::kVersion) {
       throw StoreError(fmt::format("PostgreSQL store has schema version {}, newer than this "
                                    "server's {}", found, schema::kVersion));
     }
-    run(c,
+    lease.run(
         "CREATE TABLE IF NOT EXISTS meshes ("
         " id TEXT COLLATE \"C\" PRIMARY KEY, display_name TEXT NOT NULL,"
         " source_format INTEGER NOT NULL, source_bytes BIGINT NOT NULL, boundary INTEGER NOT NULL, vertex_count BIGINT NOT NULL,"
@@ -215,14 +265,14 @@ void PostgresMeshStore::createSchema() {
         " max_z DOUBLE PRECISION NOT NULL, sha256 TEXT NOT NULL, create_time_us BIGINT NOT NULL,"
         " stored_bytes BIGINT NOT NULL, content BYTEA NOT NULL)");
     if (found < schema::kVersion) {
-      run(c, "DELETE FROM tessera_schema");
-      run(c, fmt::format("INSERT INTO tessera_schema VALUES ({})", schema::kVersion));
+      lease.run("DELETE FROM tessera_schema");
+      lease.run(fmt::format("INSERT INTO tessera_schema VALUES ({})", schema::kVersion));
     }
   } catch (...) {
-    run(c, fmt::format("SELECT pg_advisory_unlock({})", kSchemaLockKey));
+    lease.run(fmt::format("SELECT pg_advisory_unlock({})", kSchemaLockKey));
     throw;
   }
-  run(c, fmt::format("SELECT pg_advisory_unlock({})", kSchemaLockKey));
+  lease.run(fmt::format("SELECT pg_advisory_unlock({})", kSchemaLockKey));
 }
 
 bool PostgresMeshStore::insert(const MeshMetadata& metadata, std::string_view content) {
@@ -231,8 +281,7 @@ bool PostgresMeshStore::insert(const MeshMetadata& metadata, std::string_view co
   std::string values;
   for (int i = 1; i <= params.size(); ++i) values += fmt::format("{}${}", i > 1 ? ", " : "", i);
   Lease lease = acquire();
-  ResultPtr r = run(lease.get(),
-                    fmt::format("INSERT INTO meshes ({}, content) VALUES ({}) "
+  ResultPtr r = lease.run(fmt::format("INSERT INTO meshes ({}, content) VALUES ({}) "
                                 "ON CONFLICT (id) DO NOTHING",
                                 schema::kMetadataColumns, values),
                     params);
@@ -243,8 +292,7 @@ std::optional<MeshMetadata> PostgresMeshStore::findMetadata(std::string_view id)
   Params params;
   params.text(std::string(id));
   Lease lease = acquire();
-  ResultPtr r = run(lease.get(),
-                    fmt::format("SELECT {} FROM meshes WHERE id = $1", schema::kMetadataColumns),
+  ResultPtr r = lease.run(fmt::format("SELECT {} FROM meshes WHERE id = $1", schema::kMetadataColumns),
                     params);
   if (PQntuples(r.get()) == 0) return std::nullopt;
   return readMetadata(r.get(), 0);
@@ -254,8 +302,7 @@ std::optional<StoredMesh> PostgresMeshStore::load(std::string_view id) {
   Params params;
   params.text(std::string(id));
   Lease lease = acquire();
-  ResultPtr r = run(lease.get(),
-                    fmt::format("SELECT {}, content FROM meshes WHERE id = $1",
+  ResultPtr r = lease.run(fmt::format("SELECT {}, content FROM meshes WHERE id = $1",
                                 schema::kMetadataColumns),
                     params);
   if (PQntuples(r.get()) == 0) return std::nullopt;
@@ -268,8 +315,7 @@ std::vector<MeshMetadata> PostgresMeshStore::list(std::string_view afterId, int 
   params.integer(limit);
   Lease lease = acquire();
   // COLLATE "C" orders ids bytewise, as SQLite does, whatever the database's locale.
-  ResultPtr r = run(lease.get(),
-                    fmt::format("SELECT {} FROM meshes WHERE id COLLATE \"C\" > $1 "
+  ResultPtr r = lease.run(fmt::format("SELECT {} FROM meshes WHERE id COLLATE \"C\" > $1 "
                                 "ORDER BY id COLLATE \"C\" LIMIT $2",
                                 schema::kMetadataColumns),
                     params);
@@ -282,20 +328,20 @@ bool PostgresMeshStore::remove(std::string_view id) {
   Params params;
   params.text(std::string(id));
   Lease lease = acquire();
-  ResultPtr r = run(lease.get(), "DELETE FROM meshes WHERE id = $1", params);
+  ResultPtr r = lease.run("DELETE FROM meshes WHERE id = $1", params);
   return std::string_view(PQcmdTuples(r.get())) == "1";
 }
 
 StoreStats PostgresMeshStore::stats() {
   Lease lease = acquire();
   ResultPtr r =
-      run(lease.get(), "SELECT count(*), coalesce(sum(stored_bytes), 0) FROM meshes");
+      lease.run("SELECT count(*), coalesce(sum(stored_bytes), 0) FROM meshes");
   return StoreStats{integerAt(r.get(), 0, 0), integerAt(r.get(), 0, 1)};
 }
 
 void PostgresMeshStore::probe() {
   Lease lease = acquire();
-  run(lease.get(), "SELECT id FROM meshes ORDER BY id LIMIT 1");
+  lease.run("SELECT id FROM meshes ORDER BY id LIMIT 1");
 }
 
 }  // namespace tessera::server

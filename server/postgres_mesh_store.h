@@ -3,6 +3,7 @@
 // upload is acknowledged (synchronous_commit as the database sets it, "on" by default).
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -19,8 +20,9 @@ namespace tessera::server {
 class PostgresMeshStore final : public MeshStore {
  public:
   // conninfo: a libpq URI or keyword=value string. Connects once to check it and create the
-  // table; throws StoreError if that fails.
-  explicit PostgresMeshStore(std::string conninfo, int poolSize = 4);
+  // table; throws StoreError if that fails. Every connection and every statement must make
+  // progress within `timeout` (StoreError otherwise, and the connection is dropped).
+  PostgresMeshStore(std::string conninfo, std::chrono::milliseconds timeout, int poolSize = 4);
   ~PostgresMeshStore() override;
   PostgresMeshStore(const PostgresMeshStore&) = delete;
   PostgresMeshStore& operator=(const PostgresMeshStore&) = delete;
@@ -42,6 +44,7 @@ class PostgresMeshStore final : public MeshStore {
   void createSchema();
 
   std::string conninfo_;
+  std::chrono::milliseconds timeout_;
   size_t poolSize_;
   std::mutex mutex_;
   std::condition_variable available_;

@@ -219,7 +219,8 @@ int runServer(const ServerConfig& config) {
   sigaddset(&stopSignals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
 
-  std::unique_ptr<MeshStore> store = openMeshStore(config.store);
+  std::unique_ptr<MeshStore> store = openMeshStore(
+      config.store, std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::duration<double>(config.storeTimeoutSeconds)));
   MetricsRegistry registry;
   ServerMetrics metrics(registry);
   MeshRepository repository(*store, static_cast<size_t>(config.cacheBytes));

@@ -108,6 +108,10 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
   withEnv(app.add_option("--store", c.store, "sqlite:PATH or postgresql://USER@HOST:PORT/DB")
               ->capture_default_str(),
           "TESSERA_STORE");
+  withEnv(app.add_option("--store-timeout", c.storeTimeoutSeconds,
+                         "Seconds a PostgreSQL connection or statement may go without progress")
+              ->capture_default_str(),
+          "TESSERA_STORE_TIMEOUT");
   withEnv(app.add_option("--token", c.token, "Require \"authorization: Bearer TOKEN\" on calls"),
           "TESSERA_TOKEN");
   withEnv(app.add_option("--token-file", c.tokenFile, "Read the bearer token from FILE"),
@@ -163,6 +167,7 @@ void finalizeServerConfig(ServerConfig& c) {
   if (c.maxQueuedJobs < 0) c.maxQueuedJobs = 4 * c.maxConcurrentJobs;
   requirePositive(c.maxConcurrentJobs, "--max-concurrent-jobs");
   requirePositive(c.maxOpenStreams, "--max-open-streams");
+  if (!(c.storeTimeoutSeconds > 0)) throw std::invalid_argument("--store-timeout must be positive");
   if (!(c.streamIdleSeconds > 0) || !(c.sessionIdleSeconds > 0)) {
     throw std::invalid_argument("--stream-idle-timeout and --session-idle-timeout must be positive");
   }

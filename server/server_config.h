@@ -17,6 +17,7 @@ namespace tessera::server {
 struct ServerConfig {
   std::string listen = "127.0.0.1:50051";
   std::string store = "sqlite:tessera.db";
+  double storeTimeoutSeconds = 10.0;  // a PostgreSQL connection or statement without progress
   std::string token;
   std::string tokenFile;
   std::string tlsCert;

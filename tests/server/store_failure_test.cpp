@@ -3,6 +3,8 @@
 // health service says NOT_SERVING while the store cannot serve, and SERVING once it can again.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
 #include <fstream>
 
 #include "tests/server/server_process.h"
@@ -77,6 +79,38 @@ TEST(StoreFailure, HealthFollowsAPostgresOutage) {
   EXPECT_TRUE(waitForHealth(server->channel(), kServing)) << server->log();
   EXPECT_TRUE(listMeshes(*server).ok());
   EXPECT_NE(server->log().find("health SERVING"), std::string::npos);
+}
+
+// A frozen PostgreSQL: the backends serving the server's connections stopped (SIGSTOP), as a
+// database that accepts a connection and never answers. Calls end within the store's timeout
+// (UNAVAILABLE on a frozen connection, or OK on a fresh one), never at the client's deadline, and
+// the frozen connections are dropped.
+TEST(StoreFailure, AFrozenPostgresCannotHoldCallsPastTheStoreTimeout) {
+  std::string whyNot;
+  auto database = PostgresDatabase::create(&whyNot);
+  if (!database) GTEST_SKIP() << "PostgreSQL store test skipped: " << whyNot;
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", database->url(), "--store-timeout", "1"});
+  ASSERT_TRUE(server);
+  auto stub = v1::MeshService::NewStub(server->channel());
+  ASSERT_TRUE(uploadMessages(*stub, arraysUpload("kept", gridMesh(4, 0))).status.ok());
+
+  const std::vector<int> frozen = database->sessions();
+  ASSERT_FALSE(frozen.empty());
+  for (int pid : frozen) ASSERT_EQ(::kill(pid, SIGSTOP), 0);
+  for (int call = 0; call < 3; ++call) {
+    grpc::ClientContext context;
+    prepare(context, {}, 20);
+    v1::GetMeshRequest request;
+    request.set_name("meshes/kept");
+    v1::Mesh mesh;
+    const grpc::Status status = stub->GetMesh(&context, request, &mesh);
+    EXPECT_TRUE(status.ok() || status.error_code() == grpc::StatusCode::UNAVAILABLE)
+        << int(status.error_code()) << ": " << status.error_message();
+  }
+  for (int pid : frozen) ::kill(pid, SIGCONT);
+  EXPECT_NE(server->log().find("no answer within 1000 ms"), std::string::npos) << server->log();
+  EXPECT_TRUE(waitForHealth(server->channel(), kServing));
 }
 
 }  // namespace

@@ -113,6 +113,21 @@ std::string PostgresDatabase::takeAway() {
   return error;
 }
 
+std::vector<int> PostgresDatabase::sessions() const {
+  std::vector<int> pids;
+  PGconn* c = PQconnectdb(adminUrl_.c_str());
+  if (PQstatus(c) == CONNECTION_OK) {
+    const std::string sql = fmt::format("SELECT pid FROM pg_stat_activity WHERE datname = '{}'", name_);
+    PGresult* r = PQexec(c, sql.c_str());
+    if (PQresultStatus(r) == PGRES_TUPLES_OK) {
+      for (int row = 0; row < PQntuples(r); ++row) pids.push_back(std::atoi(PQgetvalue(r, row, 0)));
+    }
+    PQclear(r);
+  }
+  PQfinish(c);
+  return pids;
+}
+
 std::string PostgresDatabase::giveBack() {
   return runAdmin(adminUrl_, fmt::format("ALTER DATABASE {0}_away RENAME TO {0}", name_));
 }

@@ -46,6 +46,8 @@ class PostgresDatabase {
   // empty on success.
   std::string takeAway();
   std::string giveBack();
+  // The process ids of the sessions connected to the database (its server-side backends).
+  std::vector<int> sessions() const;
 
  private:
   PostgresDatabase(std::string adminUrl, std::string name, std::string url);
