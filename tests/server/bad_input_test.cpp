@@ -154,6 +154,13 @@ class BadInputCatalogue : public ::testing::Test {
       EXPECT_EQ(status.error_code(), c.code) << status.error_message();
       EXPECT_NE(status.error_message().find(c.messagePart), std::string::npos)
           << "message: " << status.error_message();
+      // Nothing of the server's insides reaches a client: no file or folder of it, no library's
+      // own words, no source or exception text.
+      for (const std::string& internal :
+           {dir_.path().string(), std::string("sqlite"), std::string("postgresql:"), std::string("libpq"),
+            std::string(".cpp"), std::string("std::"), std::string("what()"), std::string("OpenSubdiv::")}) {
+        EXPECT_EQ(status.error_message().find(internal), std::string::npos) << "message: " << status.error_message();
+      }
     }
   }
 
