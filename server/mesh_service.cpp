@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "server/call_guard.h"
+#include "server/memory_release.h"
 #include "server/mesh_names.h"
 #include "server/mesh_proto.h"
 #include "server/status_error.h"
@@ -40,6 +41,7 @@ void MeshServiceImpl::receive(Watched<grpc::ServerReader<v1::UploadMeshRequest>>
 grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
                                          grpc::ServerReader<v1::UploadMeshRequest>* reader,
                                          v1::Mesh* response) {
+  const ReleaseMemoryOnExit release;  // the upload's buffers and parse, after the call
   return guardCall(*context, auth_, [&] {
     CancellationToken cancel = cancellationFor(*context);
     UploadAssembler upload(limits_);

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "server/call_guard.h"
+#include "server/memory_release.h"
 #include "server/mesh_names.h"
 #include "server/render_request.h"
 #include "server/render_session.h"
@@ -235,6 +236,7 @@ RenderServiceImpl::EncodedFrame RenderServiceImpl::makeFrame(MeshHandle& mesh, c
 grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
                                        const v1::RenderRequest* request,
                                        grpc::ServerWriter<v1::RenderResponse>* writer) {
+  const ReleaseMemoryOnExit release;  // the frames' buffers, after the call
   return guardCall(*context, auth_, [&] {
     requireBackend();
     std::string id = meshIdFromName(request->name(), "name");
@@ -280,6 +282,7 @@ grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
 }
 
 grpc::Status RenderServiceImpl::RenderSession(grpc::ServerContext* context, SessionStream* stream) {
+  const ReleaseMemoryOnExit release;  // the frames' buffers, after the session
   return guardCall(*context, auth_, [&] {
     requireBackend();
     StreamWatch::Call call = streams_.open(*context, "RenderSession", /*session=*/true);

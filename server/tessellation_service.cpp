@@ -6,6 +6,7 @@
 
 #include "server/call_guard.h"
 #include "server/mesh_names.h"
+#include "server/memory_release.h"
 #include "server/sha256.h"
 #include "server/status_error.h"
 
@@ -94,6 +95,7 @@ void sendSummary(Writer& writer, const TessellationOutput& output, const Tessell
 grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
                                                  const v1::TessellateRequest* request,
                                                  grpc::ServerWriter<v1::TessellateResponse>* stream) {
+  const ReleaseMemoryOnExit release;  // after the call, whichever way it ends
   return guardCall(*context, auth_, [&] {
     checkTessellateRequest(*request, limits_);
     StreamWatch::Call call = streams_.open(*context, "Tessellate");
