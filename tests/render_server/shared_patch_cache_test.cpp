@@ -12,13 +12,6 @@ namespace {
 
 class SharedPatchCacheTest : public RenderServerTest {};
 
-// The value of an unlabelled series, or -1 if absent.
-double seriesValue(const std::string& text, const std::string& series) {
-  size_t at = text.find("\n" + series + " ");
-  if (at == std::string::npos) return -1;
-  return std::stod(text.substr(at + series.size() + 2));
-}
-
 grpc::Status tessellateBigguy(ServerProcess& server) {
   auto stub = v1::TessellationService::NewStub(server.channel());
   grpc::ClientContext context;

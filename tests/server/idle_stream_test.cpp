@@ -26,12 +26,6 @@ struct IdleUpload {
   }
 };
 
-// The value of an unlabelled sample in a /metrics page, or -1.
-double sample(const std::string& page, const std::string& name) {
-  const size_t at = page.find("\n" + name + " ");
-  return at == std::string::npos ? -1 : std::stod(page.substr(at + name.size() + 2));
-}
-
 TEST(IdleStreams, AnUploadWhoseClientSendsNothingIsCancelled) {
   TempDir dir;
   auto server = ServerProcess::start(dir.path(), {"--stream-idle-timeout", "1"});
@@ -47,7 +41,7 @@ TEST(IdleStreams, AnUploadWhoseClientSendsNothingIsCancelled) {
   EXPECT_LT(waited, 10);
   EXPECT_NE(server->log().find("UploadMesh from"), std::string::npos) << server->log();
   EXPECT_NE(server->log().find("sent nothing for 1 s: call cancelled"), std::string::npos) << server->log();
-  EXPECT_EQ(sample(httpGet(server->metricsAddress(), "/metrics"), "tessera_streams_cancelled_total"), 1);
+  EXPECT_EQ(seriesValue(httpGet(server->metricsAddress(), "/metrics"), "tessera_streams_cancelled_total"), 1);
   // A client that keeps sending is not cut off.
   EXPECT_TRUE(uploadMessages(*stub, arraysUpload("busy", gridMesh(4, 0))).status.ok());
 }
@@ -83,10 +77,10 @@ TEST(IdleStreams, PastTheOpenStreamLimitStreamsAreRefusedAndUnaryCallsStillServe
   std::vector<std::unique_ptr<IdleUpload>> held;
   for (int i = 0; i < 3; ++i) held.push_back(std::make_unique<IdleUpload>(*stub, 60));
   const auto giveUp = Clock::now() + std::chrono::seconds(20);
-  while (sample(httpGet(server->metricsAddress(), "/metrics"), "tessera_open_streams") < 3 && Clock::now() < giveUp) {
+  while (seriesValue(httpGet(server->metricsAddress(), "/metrics"), "tessera_open_streams") < 3 && Clock::now() < giveUp) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ASSERT_EQ(sample(httpGet(server->metricsAddress(), "/metrics"), "tessera_open_streams"), 3);
+  ASSERT_EQ(seriesValue(httpGet(server->metricsAddress(), "/metrics"), "tessera_open_streams"), 3);
 
   const auto start = Clock::now();
   const UploadResult refused = uploadMessages(*stub, arraysUpload("fourth", gridMesh(4, 0)));
@@ -126,7 +120,7 @@ TEST(IdleStreams, UnauthenticatedStreamsHoldNothing) {
   v1::ListMeshesResponse list;
   EXPECT_TRUE(stub->ListMeshes(&context, {}, &list).ok());
   EXPECT_TRUE(uploadMessages(*stub, arraysUpload("owner", gridMesh(4, 0)), "T").status.ok());
-  EXPECT_EQ(sample(httpGet(server->metricsAddress(), "/metrics"), "tessera_open_streams"), 0);
+  EXPECT_EQ(seriesValue(httpGet(server->metricsAddress(), "/metrics"), "tessera_open_streams"), 0);
   for (auto& stranger : strangers) {
     EXPECT_EQ(stranger->writer->Finish().error_code(), grpc::StatusCode::UNAUTHENTICATED);
   }

@@ -33,12 +33,6 @@ constexpr const char* kCallDeadline = "30s";
 // for 32 connections stay far below it; a leak of even a small GLB per request would not.
 constexpr int64_t kMaxRssGrowthBytes = 512LL << 20;
 
-double seriesValue(const std::string& text, const std::string& series) {
-  size_t at = text.find("\n" + series + " ");
-  if (at == std::string::npos) return -1;
-  return std::stod(text.substr(at + series.size() + 2));
-}
-
 double okCalls(const std::string& metrics, const std::string& method) {
   return seriesValue(metrics, "tessera_requests_total{method=\"" + method + "\",code=\"OK\"}");
 }

@@ -12,11 +12,6 @@
 namespace tessera::test {
 namespace {
 
-double sample(const std::string& page, const std::string& name) {
-  const size_t at = page.find("\n" + name + " ");
-  return at == std::string::npos ? -1 : std::stod(page.substr(at + name.size() + 2));
-}
-
 // armorguy at 1e-4: 1.4 million triangles, a peak some 600 MB above the resting server; without
 // giving memory back the server kept ~160 MB of it past its caches.
 TEST(MemoryRelease, ALargeTessellationLeavesOnlyWhatTheCachesHold) {
@@ -46,8 +41,8 @@ TEST(MemoryRelease, ALargeTessellationLeavesOnlyWhatTheCachesHold) {
   const int64_t after = processMemoryBytes(server->pid(), "VmRSS");
   const int64_t peak = processMemoryBytes(server->pid(), "VmHWM");
   const std::string metrics = httpGet(server->metricsAddress(), "/metrics");
-  const double cached = sample(metrics, "tessera_patch_cache_bytes") + sample(metrics, "tessera_cache_bytes") -
-                        sample(metricsBefore, "tessera_patch_cache_bytes") - sample(metricsBefore, "tessera_cache_bytes");
+  const double cached = seriesValue(metrics, "tessera_patch_cache_bytes") + seriesValue(metrics, "tessera_cache_bytes") -
+                        seriesValue(metricsBefore, "tessera_patch_cache_bytes") - seriesValue(metricsBefore, "tessera_cache_bytes");
   std::printf("VmRSS %.0f MiB before, %.0f MiB after (peak %.0f MiB); caches grew by %.0f MiB\n", before / 1048576.0,
               after / 1048576.0, peak / 1048576.0, cached / 1048576.0);
   EXPECT_GT(peak - before, int64_t(300) << 20);  // the job was large

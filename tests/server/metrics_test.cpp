@@ -16,13 +16,6 @@
 namespace tessera::test {
 namespace {
 
-// The value of the series exactly as written (name with labels), or -1 if absent.
-double seriesValue(const std::string& text, const std::string& series) {
-  size_t at = text.find("\n" + series + " ");
-  if (at == std::string::npos) return -1;
-  return std::stod(text.substr(at + series.size() + 2));
-}
-
 TEST(Metrics, ScrapesCountRequestsByMethodAndStatusAndTrackUploadsAndTheStore) {
   TempDir dir;
   auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});

@@ -26,11 +26,6 @@ std::string fanObj(int n) {
   return obj.str();
 }
 
-double sample(const std::string& page, const std::string& name) {
-  const size_t at = page.find("\n" + name + " ");
-  return at == std::string::npos ? -1 : std::stod(page.substr(at + name.size() + 2));
-}
-
 TEST(PreprocessingCancel, ADeadlineStopsPreprocessingAndFreesTheSlot) {
   TempDir dir;
   auto server = ServerProcess::start(
@@ -61,8 +56,8 @@ TEST(PreprocessingCancel, ADeadlineStopsPreprocessingAndFreesTheSlot) {
   }
   EXPECT_TRUE(upload.ok()) << upload.error_message();
   const std::string metrics = httpGet(server->metricsAddress(), "/metrics");
-  EXPECT_EQ(sample(metrics, "tessera_patch_cache_misses_total"), 1);
-  EXPECT_EQ(sample(metrics, "tessera_patch_cache_bytes"), 0);
+  EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_misses_total"), 1);
+  EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_bytes"), 0);
 }
 
 }  // namespace

@@ -100,13 +100,6 @@ Streamed tessellateOverGrpc(v1::TessellationService::Stub& stub,
   return result;
 }
 
-// The value of a metrics series exactly as written (name and labels), or -1 if absent.
-double seriesValue(const std::string& text, const std::string& series) {
-  size_t at = text.find("\n" + series + " ");
-  if (at == std::string::npos) return -1;
-  return std::stod(text.substr(at + series.size() + 2));
-}
-
 const std::string kTessellateCalls =
     "tessera_requests_total{method=\"/tessera.v1.TessellationService/Tessellate\",code=";
 

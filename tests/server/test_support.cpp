@@ -349,6 +349,12 @@ MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc
   return mesh;
 }
 
+double seriesValue(const std::string& page, const std::string& series) {
+  const size_t at = page.find("\n" + series + " ");
+  if (at == std::string::npos) return -1;
+  return std::stod(page.substr(at + series.size() + 2));
+}
+
 std::string httpGet(const std::string& address, const std::string& path) {
   size_t colon = address.rfind(':');
   addrinfo hints{};

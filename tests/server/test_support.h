@@ -121,4 +121,7 @@ MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc
 // GET http://address/path; the whole response (head and body), or "" on failure.
 std::string httpGet(const std::string& address, const std::string& path);
 
+// The value of one series (its name and labels exactly as exposed) in a /metrics page, or -1.
+double seriesValue(const std::string& page, const std::string& series);
+
 }  // namespace tessera::test
