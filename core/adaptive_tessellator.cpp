@@ -285,6 +285,7 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
                  " triangles, over the budget of " + std::to_string(options.maxTriangles) +
                  "; raise the tolerance or the triangle budget");
     }
+    if (options.beforeOutput) options.beforeOutput(layout.plan.gridTriangles);
     layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint);
     std::vector<TileSquare> failed;
     if (settlePending(layout.plan, layout.stitching, failed)) return layout;

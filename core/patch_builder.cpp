@@ -114,7 +114,11 @@ bool isIrregularVertex(const Far::TopologyLevel& level, Index v) {
 class PatchSetBuilder {
  public:
   PatchSetBuilder(const ControlMesh& mesh, const PreprocessingOptions& options)
-      : mesh_(mesh), checkpoint_(options.checkpoint), maxRefinedVertices_(options.maxRefinedVertices) {}
+      : mesh_(mesh),
+        checkpoint_(options.checkpoint),
+        maxRefinedVertices_(options.maxRefinedVertices),
+        beforeRefining_(options.beforeRefining),
+        afterRefining_(options.afterRefining) {}
   PatchSet build();
 
  private:
@@ -130,6 +134,8 @@ class PatchSetBuilder {
   const ControlMesh& mesh_;
   const std::function<void()>& checkpoint_;
   const int64_t maxRefinedVertices_;
+  const std::function<void(int64_t)> beforeRefining_;
+  const std::function<void(int64_t)> afterRefining_;
   std::unique_ptr<Far::TopologyRefiner> refiner_;
   std::vector<Vec3d> positions_;
   std::vector<int> levelOffsets_;
@@ -229,11 +235,17 @@ PatchSet PatchSetBuilder::build() {
   requireManifold(mesh_);
   checkpointNow();
   const int isolation = isolationLevelFor(mesh_);
-  if (maxRefinedVertices_ > 0) requireRefinementWithin(mesh_, maxRefinedVertices_, checkpoint_);
+  if (maxRefinedVertices_ > 0 || beforeRefining_) {
+    // Without a limit the estimate is still wanted: one far beyond any machine's memory.
+    const int64_t limit = maxRefinedVertices_ > 0 ? maxRefinedVertices_ : int64_t(1) << 50;
+    const int64_t estimate = requireRefinementWithin(mesh_, limit, checkpoint_);
+    if (beforeRefining_) beforeRefining_(estimate);
+  }
   refiner_ = createTopologyRefiner(mesh_);
   const Far::PatchTableFactory::Options options = patchTableOptions(isolation);
   refineAdaptively(*refiner_, options);
   checkpointNow();
+  if (afterRefining_) afterRefining_(refiner_->GetNumVerticesTotal());
   std::unique_ptr<Far::PatchTable> table(Far::PatchTableFactory::Create(*refiner_, options));
   checkpointNow();
 

@@ -98,10 +98,15 @@ struct PatchSet {
 // abandon the work: how a server stops preprocessing for a call that was cancelled.
 // `maxRefinedVertices` (0: no limit) bounds OpenSubdiv's adaptive refinement, the part that grows
 // with semi-sharp creases (core/refinement_budget.h): a mesh over it is refused before the memory
-// is taken.
+// is taken. `beforeRefining`, when given, gets that estimate of the refined vertices before the
+// refinement is made, and `afterRefining` the exact count once it is, before the patches are
+// built (either may throw): how a server reserves memory for the job as it learns its size
+// (core/memory_estimates.h).
 struct PreprocessingOptions {
   std::function<void()> checkpoint;
   int64_t maxRefinedVertices = 0;
+  std::function<void(int64_t refinedVertices)> beforeRefining;
+  std::function<void(int64_t refinedVertices)> afterRefining;
 };
 
 // Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).

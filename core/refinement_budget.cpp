@@ -13,7 +13,7 @@ namespace {
 constexpr double kHopeless = 8;
 }  // namespace
 
-void requireRefinementWithin(const ControlMesh& mesh, int64_t maxRefinedVertices,
+int64_t requireRefinementWithin(const ControlMesh& mesh, int64_t maxRefinedVertices,
                              const std::function<void()>& checkpoint) {
   const int isolation = isolationLevelFor(mesh);
   // Levels where semi-sharp features still refine (past them only extraordinary vertices are
@@ -41,14 +41,14 @@ void requireRefinementWithin(const ControlMesh& mesh, int64_t maxRefinedVertices
     double next = last;
     for (int level = reached + 1; level <= isolation; ++level) estimate += next *= factor(level);
     const double limit = double(maxRefinedVertices);
-    if (estimate <= limit) return;
+    if (estimate <= limit) return int64_t(std::ceil(estimate));
     // The extrapolation overestimates, by 2-3 times where growth falls fast; past 8 times no
     // deeper look will bring it within. Nor is one taken that would itself pass twice the limit.
     if (estimate > kHopeless * limit || double(refiner->GetNumVerticesTotal()) + last * factor(reached + 1) > 2 * limit) {
       break;
     }
   }
-  if (estimate <= double(maxRefinedVertices)) return;
+  if (estimate <= double(maxRefinedVertices)) return int64_t(std::ceil(estimate));
   const std::string how =
       exact ? "" : " (extrapolated from " + std::to_string(probed) + " of its " + std::to_string(isolation) + " levels)";
   throwLimit("OpenSubdiv's adaptive refinement of the mesh (semi-sharp creases are isolated level by level) "

@@ -18,8 +18,9 @@ namespace tessera {
 // overestimates). Returns once an estimate (or the complete count) is
 // within the limit; throws TesseraError (limit) naming the estimate and the limit when it is
 // hopelessly over (8 times), or when the next partial refinement would itself take twice the
-// limit. `checkpoint` (may be empty) runs between them.
-void requireRefinementWithin(const ControlMesh& mesh, int64_t maxRefinedVertices,
+// limit. `checkpoint` (may be empty) runs between them. Returns the estimate (the exact count
+// where the refinement was complete), which callers use to budget memory before refining.
+int64_t requireRefinementWithin(const ControlMesh& mesh, int64_t maxRefinedVertices,
                              const std::function<void()>& checkpoint);
 
 }  // namespace tessera

@@ -59,6 +59,7 @@ TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
                " triangles, over the budget of " + std::to_string(options.maxTriangles) +
                "; raise the tolerance or the triangle budget");
   }
+  if (options.beforeOutput) options.beforeOutput(estimate);
   start = std::chrono::steady_clock::now();
   FaceTopology faces(mesh.faceSizes, mesh.faceVertices);
   result.mesh = tessellatePlan(plan, faces, options.recordParameters, options.checkpoint);

@@ -30,6 +30,10 @@ struct TessellationOptions {
   // Called every few hundred rings or pieces during long work; a caller that wants to stop
   // (a cancelled or expired request) throws from it, and the exception leaves tessellate().
   std::function<void()> checkpoint;
+  // Called with the triangle count a plan will make (after the maxTriangles check), before the
+  // output is built from it; may throw. A server reserves the output's memory here. Called again
+  // if planning has to go round again.
+  std::function<void(int64_t triangles)> beforeOutput;
 };
 
 // Throws TesseraError (kInvalidInput) naming the bad field: zero, negative or non-finite

@@ -1,8 +1,11 @@
 #include "server/cpu_engine.h"
 
+#include <algorithm>
 #include <chrono>
+#include <string>
 
 #include "core/glb_writer.h"
+#include "core/memory_estimates.h"
 #include "core/tessellate.h"
 
 namespace tessera::server {
@@ -21,6 +24,15 @@ TessellationOptions optionsFor(const TessellationJob& job, const CancellationTok
     options.pixelAccuracy = job.pixelAccuracy;
   }
   options.checkpoint = [&cancel] { cancel.throwIfCancelled(); };
+  if (job.memory) {
+    // The output's memory, reserved once the plan knows its triangles (again, for the
+    // difference, if planning goes round again with more).
+    options.beforeOutput = [memory = job.memory, held = int64_t(0)](int64_t triangles) mutable {
+      const int64_t need = tessellationBytes(triangles);
+      if (need > held) memory->reserve(need - held, "the output (" + std::to_string(triangles) + " triangles)");
+      held = std::max(held, need);
+    };
+  }
   return options;
 }
 
@@ -40,7 +52,7 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
   TessellationOutput output;
   auto start = Clock::now();
   progress("preprocessing", 0.0);
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel, job.memory);
   output.summary.timings.push_back({"preprocess", seconds(start)});
   cancel.throwIfCancelled();
 

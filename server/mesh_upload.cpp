@@ -2,10 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "core/error.h"
 #include "core/manifold_check.h"
+#include "core/memory_estimates.h"
 #include "core/obj_reader.h"
 #include "core/refinement_budget.h"
+#include "server/admission_control.h"
 #include "server/mesh_names.h"
 #include "server/status_error.h"
 
@@ -156,12 +160,22 @@ AssembledUpload UploadAssembler::finish() {
   const std::string where = metadata_.sourceFormat == SourceFormat::kObj
                                 ? metadata_.displayName + ": "
                                 : std::string("arrays: ");
+  int64_t refined = 0;
   try {
     validateControlMesh(mesh, limits_.mesh);
     requireManifold(mesh);
-    requireRefinementWithin(mesh, limits_.maxRefinedVertices, {});
+    refined = requireRefinementWithin(mesh, limits_.maxRefinedVertices, {});
   } catch (const TesseraError& error) {
     rethrowWithPrefix(error, where);
+  }
+  // What preprocessing will reserve for certain: the refinement as estimated, and the part that
+  // does not depend on it.
+  const int64_t least = std::max(refinementBytes(refined), preprocessingBytes(mesh, 0));
+  if (least > limits_.maxPreprocessingBytes) {
+    throwStatus(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                fmt::format("{}preprocessing the mesh needs about {} of memory, over the server's memory budget "
+                            "for jobs of {} (--memory-budget less the caches)",
+                            where, formatBytes(least), formatBytes(limits_.maxPreprocessingBytes)));
   }
   return AssembledUpload{std::move(mesh), metadata_};
 }

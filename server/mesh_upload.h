@@ -23,6 +23,9 @@ struct UploadLimits {
   // per vertex, so the default bounds preprocessing at ~2.6 GB. Checked at upload and again when
   // a mesh is preprocessed.
   int64_t maxRefinedVertices = 4'000'000;
+  // The server's memory budget for jobs (admission_control.h): a mesh whose preprocessing is
+  // sure to reserve more (core/memory_estimates.h) could never be drawn or tessellated.
+  int64_t maxPreprocessingBytes = INT64_MAX / 4;
 };
 
 struct AssembledUpload {

@@ -1,6 +1,7 @@
 #include "server/patch_set_cache.h"
 
 #include "core/adaptive_surface.h"
+#include "core/memory_estimates.h"
 
 #include <vector>
 
@@ -26,10 +27,24 @@ size_t bytesOf(const PatchSet& set) {
 }  // namespace
 
 std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, const std::string& meshId,
-                                                   const std::string& meshSha256, const CancellationToken& cancel) {
+                                                   const std::string& meshSha256, const CancellationToken& cancel,
+                                                   MemoryReservation* memory) {
   const std::string key = meshId + "@" + meshSha256;
   if (auto cached = cache_.find(key)) return cached;
-  const PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+  PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+  int64_t held = 0;
+  if (memory) {
+    options.beforeRefining = [&](int64_t estimate) {
+      held = refinementBytes(estimate);
+      memory->reserve(held, "OpenSubdiv's refinement of the mesh");
+    };
+    options.afterRefining = [&](int64_t refined) {
+      const int64_t need = preprocessingBytes(mesh, refined);
+      if (need > held) memory->reserve(need - held, "preprocessing the mesh");
+      if (need < held) memory->release(held - need);
+      held = need;
+    };
+  }
   auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
   cache_.insert(key, built, bytesOf(*built));
   return built;

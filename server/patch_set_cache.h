@@ -9,6 +9,7 @@
 #include "core/control_mesh.h"
 #include "core/patch_set.h"
 #include "server/cancellation.h"
+#include "server/memory_reservation.h"
 #include "server/lru_cache.h"
 
 namespace tessera::server {
@@ -21,9 +22,12 @@ class PatchSetCache {
 
   // The mesh's patch set, built on a miss. Keyed by id and content hash, so a mesh re-uploaded
   // under the same id never meets a stale entry. Throws what buildPatchSet throws, and
-  // OperationCancelled when `cancel` fires while building (nothing is cached then).
+  // OperationCancelled when `cancel` fires while building (nothing is cached then). A build
+  // reserves its memory in `memory` (may be null) as the refinement's size becomes known
+  // (core/memory_estimates.h), and keeps it until the job ends.
   std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshId,
-                                      const std::string& meshSha256, const CancellationToken& cancel);
+                                      const std::string& meshSha256, const CancellationToken& cancel,
+                                      MemoryReservation* memory);
   CacheStats stats() const { return cache_.stats(); }
 
  private:

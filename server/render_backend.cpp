@@ -15,6 +15,7 @@ class UnavailableRenderBackend final : public RenderBackend {
   bool available() const override { return false; }
   std::string detail() const override { return kWhy; }
   std::string device() const override { return {}; }
+  int64_t frameBytes(int, int) const override { return 0; }
   RenderedFrame render(const ControlMesh&, const FrameJob&, const CancellationToken&) override {
     throw RenderUnavailable(kWhy);
   }

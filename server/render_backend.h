@@ -16,6 +16,7 @@
 
 #include "core/control_mesh.h"
 #include "server/cancellation.h"
+#include "server/memory_reservation.h"
 #include "server/patch_set_cache.h"
 #include "server/tessellation_engine.h"
 
@@ -45,6 +46,9 @@ struct FrameJob {
   std::string meshSha256;  // with meshId, the key of cached patch sets
   FrameSettings settings;
   CameraSpec camera;
+  // Where the frame reserves memory beyond its pixels (preprocessing, the triangles it draws);
+  // null: nowhere.
+  MemoryReservation* memory = nullptr;
 };
 
 struct FrameStageTimes {
@@ -102,6 +106,9 @@ class RenderBackend {
   virtual bool available() const = 0;
   virtual std::string detail() const = 0;
   virtual std::string device() const = 0;
+  // What drawing a width x height frame holds in memory for its pixels (images, readback, the
+  // returned buffers), before the triangles it draws: reserved before the frame is admitted.
+  virtual int64_t frameBytes(int width, int height) const = 0;
 
   // Draws job's camera of mesh (validated, manifold). Called concurrently; implementations
   // serialize device access themselves. Polls cancel between stages and while waiting for the

@@ -32,6 +32,9 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+// The service's own share of a frame: the encoded image and the message that carries it.
+constexpr int64_t kEncodingBytesPerPixel = 8;
+
 void fillHeader(const RenderedFrame& frame, FrameFormat format, double admissionMs, double encodeMs,
                 v1::FrameHeader& header) {
   header.set_width(int32_t(frame.width));
@@ -215,9 +218,16 @@ RenderServiceImpl::EncodedFrame RenderServiceImpl::makeFrame(MeshHandle& mesh, c
                                                              const CancellationToken& cancel) {
   EncodedFrame out;
   Clock::time_point queued = Clock::now();
-  AdmissionControl::Slot slot = admission_.acquire(cancel);
+  const int width = job.camera.width, height = job.camera.height;
+  // The pixels are known up front: the frame waits until they fit, or is refused at once.
+  const int64_t pixelBytes =
+      backend_.frameBytes(width, height) + kEncodingBytesPerPixel * int64_t(width) * int64_t(height);
+  AdmissionControl::Slot slot =
+      admission_.acquire(cancel, {}, pixelBytes, fmt::format("a {} x {} frame", width, height));
   double admissionMs = millisecondsSince(queued);
-  RenderedFrame frame = backend_.render(mesh.get(), job, cancel);
+  FrameJob reserving = job;
+  reserving.memory = &slot;
+  RenderedFrame frame = backend_.render(mesh.get(), reserving, cancel);
   cancel.throwIfCancelled();
   Clock::time_point encodeStart = Clock::now();
   if (encoding.format == FrameFormat::kRawRgba) {

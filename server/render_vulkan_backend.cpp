@@ -26,6 +26,13 @@ std::string describeDevice(const gpu::DeviceInfo& info) {
                                       : "compute path (no VK_EXT_mesh_shader)");
 }
 
+// What a frame holds, measured on lavapipe (bench/MEMORY-RESULTS.md), rounded up: per pixel the
+// colour, depth and crack-filling images, their readback and the returned buffers; per drawn
+// triangle its share of the render patches (the geometry buffers are per batch, not per frame).
+constexpr int64_t kFrameBytesPerPixel = 72;  // 67 measured in all at 4096 x 4096
+constexpr int64_t kFrameBaseBytes = 16 << 20;
+constexpr int64_t kDrawnBytesPerTriangle = 32;
+
 // FrameEngine's request for a job: default background, light, material and geometry path.
 gpu::FrameRequest frameRequestFor(const FrameJob& job) {
   gpu::FrameRequest request;
@@ -53,6 +60,10 @@ gpu::FrameRequest frameRequestFor(const FrameJob& job) {
 }
 
 }  // namespace
+
+int64_t VulkanRenderBackend::frameBytes(int width, int height) const {
+  return kFrameBaseBytes + kFrameBytesPerPixel * int64_t(width) * int64_t(height);
+}
 
 VulkanRenderBackend::VulkanRenderBackend(PatchSetCache& patches, gpu::DeviceSelection selection,
                                          bool probeDevice)
@@ -157,9 +168,16 @@ RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJo
                                           const CancellationToken& cancel) {
   RenderedFrame out;
   Clock::time_point planStart = Clock::now();
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel, job.memory);
   cancel.throwIfCancelled();
-  gpu::PreparedFrame prepared = gpu::prepareFrame(*patches, frameRequestFor(job));
+  gpu::FrameRequest request = frameRequestFor(job);
+  if (job.memory) {
+    request.beforeDrawing = [&job](int64_t triangles) {
+      job.memory->reserve(kDrawnBytesPerTriangle * triangles,
+                          "drawing " + std::to_string(triangles) + " triangles");
+    };
+  }
+  gpu::PreparedFrame prepared = gpu::prepareFrame(*patches, request);
   out.times.planMs = millisecondsSince(planStart);
   cancel.throwIfCancelled();
 

@@ -33,6 +33,7 @@ class VulkanRenderBackend final : public RenderBackend {
   bool available() const override;
   std::string detail() const override;
   std::string device() const override;
+  int64_t frameBytes(int width, int height) const override;
 
   RenderedFrame render(const ControlMesh& mesh, const FrameJob& job,
                        const CancellationToken& cancel) override;

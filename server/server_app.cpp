@@ -5,6 +5,7 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/impl/server_builder_option.h>
 #include <grpcpp/resource_quota.h>
+#include <fmt/format.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
@@ -90,6 +91,8 @@ v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngi
   limits->set_max_image_pixels(config.tessellation.maxImagePixels);
   limits->set_max_concurrent_jobs(config.maxConcurrentJobs);
   limits->set_max_queued_jobs(config.maxQueuedJobs);
+  limits->set_memory_budget_bytes(config.memoryBudget);
+  limits->set_job_memory_bytes(config.jobMemoryBytes);
   info.set_store(storeKind);
   info.set_auth_required(!config.token.empty());
   info.set_tls(!config.tlsCert.empty());
@@ -123,8 +126,12 @@ void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repositor
                    [&] { return double(admission.queued()); });
   registry.sampled("tessera_jobs_running", "Heavy jobs admitted and running.", "gauge",
                    [&] { return double(admission.running()); });
+  registry.sampled("tessera_memory_budget_bytes", "Memory the jobs together may reserve (--memory-budget less the caches).",
+                   "gauge", [&] { return double(admission.memoryBudget()); });
+  registry.sampled("tessera_memory_reserved_bytes", "Memory the running jobs have reserved.", "gauge",
+                   [&] { return double(admission.memoryReserved()); });
   registry.sampled("tessera_admission_rejections_total",
-                   "Jobs refused with RESOURCE_EXHAUSTED because the queue was full.", "counter",
+                   "Jobs refused with RESOURCE_EXHAUSTED: the queue was full, or their memory did not fit.", "counter",
                    [&] { return double(admission.rejected()); });
   registry.sampled("tessera_store_bytes", "Bytes of mesh content in the store.", "gauge",
                    [&] { return double(repository.storeStats().storedBytes); });
@@ -224,7 +231,11 @@ int runServer(const ServerConfig& config) {
   MetricsRegistry registry;
   ServerMetrics metrics(registry);
   MeshRepository repository(*store, static_cast<size_t>(config.cacheBytes));
-  AdmissionControl admission(config.maxConcurrentJobs, config.maxQueuedJobs);
+  AdmissionControl admission(config.maxConcurrentJobs, config.maxQueuedJobs, config.jobMemoryBytes,
+                             fmt::format("--memory-budget {} less the caches' {} and the server's own {}",
+                                         formatBytes(config.memoryBudget),
+                                         formatBytes(config.cacheBytes + config.patchCacheBytes),
+                                         formatBytes(kServerBaseBytes)));
   StreamWatch streams(StreamWatch::Limits{
       config.maxOpenStreams,
       std::chrono::duration_cast<StreamWatch::Clock::duration>(std::chrono::duration<double>(config.streamIdleSeconds)),
@@ -263,6 +274,8 @@ int runServer(const ServerConfig& config) {
                TESSERA_VERSION, address, store->kind(), config.tlsCert.empty() ? "no" : "with",
                auth.enabled() ? "on" : "off", reflection ? "on" : "off",
                metricsServer ? metricsServer->address() : "off");
+  spdlog::info("memory budget {}: {} for jobs, {} for the caches", formatBytes(config.memoryBudget),
+               formatBytes(config.jobMemoryBytes), formatBytes(config.cacheBytes + config.patchCacheBytes));
   if (!auth.enabled() && !listensOnLoopbackOnly(config.listen)) {
     spdlog::warn("{} is reachable from other machines and no --token is set: anyone who can "
                  "connect may upload, read and delete meshes",

@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "server/admission_control.h"  // formatBytes
+#include "server/machine_memory.h"
 #include "server/metrics_http_server.h"  // splitHostPort
 
 namespace tessera::server {
@@ -75,6 +77,13 @@ void addLimitOptions(CLI::App& app, ServerConfig& c) {
                          "Largest camera viewport (width x height)")
               ->capture_default_str()->group(group),
           "TESSERA_MAX_IMAGE_PIXELS");
+  withEnv(app.add_option("--memory-budget", c.memoryBudget,
+                         "Memory the whole server may use: caches, jobs (admitted by their estimates) and "
+                         "itself (0: 3/4 of the machine's or the container's limit)")
+              ->transform(CLI::AsSizeValue(false))
+              ->capture_default_str()
+              ->group(group),
+          "TESSERA_MEMORY_BUDGET");
   withEnv(app.add_option("--max-concurrent-jobs", c.maxConcurrentJobs,
                          "Heavy jobs running at once (0: one per hardware thread)")
               ->capture_default_str()->group(group),
@@ -187,6 +196,18 @@ void finalizeServerConfig(ServerConfig& c) {
   }
   if (c.cacheBytes < 0) throw std::invalid_argument("--cache-bytes must not be negative");
   if (c.patchCacheBytes < 0) throw std::invalid_argument("--patch-cache-bytes must not be negative");
+  if (c.memoryBudget < 0) throw std::invalid_argument("--memory-budget must not be negative");
+  if (c.memoryBudget == 0) c.memoryBudget = machineMemoryBytes() / 4 * 3;
+  c.jobMemoryBytes = c.memoryBudget - c.cacheBytes - c.patchCacheBytes - kServerBaseBytes;
+  if (c.jobMemoryBytes < kServerBaseBytes) {
+    throw std::invalid_argument(fmt::format(
+        "--memory-budget {} leaves {} for jobs after --cache-bytes {}, --patch-cache-bytes {} and {} for the "
+        "server itself; raise it to at least {} or lower the caches",
+        formatBytes(c.memoryBudget), formatBytes(std::max<int64_t>(c.jobMemoryBytes, 0)), formatBytes(c.cacheBytes),
+        formatBytes(c.patchCacheBytes), formatBytes(kServerBaseBytes),
+        formatBytes(c.cacheBytes + c.patchCacheBytes + 2 * kServerBaseBytes)));
+  }
+  c.upload.maxPreprocessingBytes = c.jobMemoryBytes;
 }
 
 bool listensOnLoopbackOnly(const std::string& listen) {

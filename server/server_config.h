@@ -28,6 +28,10 @@ struct ServerConfig {
   bool reflection = true;
   int64_t cacheBytes = 512LL << 20;       // decoded meshes
   int64_t patchCacheBytes = 512LL << 20;  // preprocessed patch sets, shared by all engines
+  // The whole server's memory (0: 3/4 of the machine's or the container's, machine_memory.h);
+  // jobs get what the caches and the server itself (kServerBaseBytes) leave of it.
+  int64_t memoryBudget = 0;
+  int64_t jobMemoryBytes = 0;  // derived by finalizeServerConfig
   int maxConcurrentJobs = 0;  // 0: the number of hardware threads
   int maxQueuedJobs = -1;     // negative: 4 x maxConcurrentJobs
   double shutdownGraceSeconds = 5.0;
@@ -38,6 +42,10 @@ struct ServerConfig {
   TessellationLimits tessellation;
   std::string testEngine;  // hidden: "block" or "pattern", for the server's own tests
 };
+
+// What the server holds besides its caches and jobs (code, gRPC, threads), kept out of the jobs'
+// share of --memory-budget.
+inline constexpr int64_t kServerBaseBytes = 128LL << 20;
 
 // Registers every flag (with its environment variable) and --config on app.
 void addServerOptions(CLI::App& app, ServerConfig& config);

@@ -15,6 +15,7 @@
 #include "core/control_mesh.h"
 #include "core/vec3.h"
 #include "server/cancellation.h"
+#include "server/memory_reservation.h"
 
 namespace tessera::server {
 
@@ -54,6 +55,8 @@ struct TessellationJob {
   int uniformLevel = 0;
   // The engine refuses (TesseraError kLimitExceeded) to produce more triangles than this.
   int64_t maxTriangles = 0;
+  // Where the job reserves memory as it learns its size (preprocessing, output); null: nowhere.
+  MemoryReservation* memory = nullptr;
   // Progress of the whole job in [0, 1] under a short stage name ("refining", "tessellating",
   // "encoding"); may be empty. Call it from the thread that called run().
   std::function<void(std::string_view stage, double fraction)> reportProgress;

@@ -111,6 +111,7 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
       // next job from computing.
       AdmissionControl::Slot slot = admission_.acquire(
           cancel, [&](int) { sendProgress(*writer, "queued", 0.0); });
+      job.memory = &slot;
       sendProgress(*writer, "loading", 0.0);
       std::shared_ptr<const ControlMesh> mesh = repository_.mesh(metadata);
       ProgressForwarder forward(*writer);

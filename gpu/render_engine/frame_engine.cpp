@@ -117,6 +117,7 @@ PreparedFrame prepareFrame(const PatchSet& patches, const FrameRequest& request)
     }
   }
   stats.visiblePieces = int64_t(visible.size());
+  if (request.beforeDrawing) request.beforeDrawing(stats.plannedTriangles);
   for (uint32_t i : visible) {
     const BezierPiece& piece = plan.pieces[i];
     if (splitCount(piece.level) > 0) ++stats.splitPieces;

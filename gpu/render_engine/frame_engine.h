@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/patch_set.h"
@@ -49,6 +50,9 @@ struct FrameRequest {
   // Path, crack filling, background, light and material. Its uniformLevel must stay 0: the
   // engine sets every patch's levels (use kUniformLevel instead).
   RenderOptions render;
+  // Called with the triangles the frame will draw once they are counted (within maxTriangles),
+  // before the render patches are made; may throw. A server reserves their memory here.
+  std::function<void(int64_t triangles)> beforeDrawing;
 };
 
 // Milliseconds. GPU stages come from the renderer (gpu/vulkan StageTimings: timestamps on

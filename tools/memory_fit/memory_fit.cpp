@@ -1,0 +1,87 @@
+// Measures the peak resident memory of preprocessing and of tessellation (with the GLB) on real
+// meshes beside core's estimates of them (core/memory_estimates.h), which a server admits jobs
+// by: every estimate must sit above what was measured. Writes bench/MEMORY-RESULTS.md's table.
+//
+//   tessera-memory-fit MODEL.obj... [--tolerances 1e-2,1e-3,1e-4]
+#include <malloc.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/glb_writer.h"
+#include "core/memory_estimates.h"
+#include "core/obj_reader.h"
+#include "core/patch_set.h"
+#include "core/tessellate.h"
+
+namespace {
+
+using namespace tessera;
+
+int64_t statusBytes(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind(field, 0) == 0) return std::stoll(line.substr(std::strlen(field))) * 1024;
+  }
+  return -1;
+}
+
+// Gives freed memory back and restarts the kernel's peak (VmHWM) at the resident size now.
+int64_t restartPeak() {
+  malloc_trim(0);
+  std::ofstream("/proc/self/clear_refs") << "5";
+  return statusBytes("VmRSS:");
+}
+
+double mib(int64_t bytes) { return double(bytes) / double(1 << 20); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Peak memory of preprocessing and tessellation beside core's estimates");
+  std::vector<std::string> models;
+  std::vector<double> tolerances{1e-2, 1e-3, 1e-4};
+  app.add_option("models", models, "OBJ files")->required();
+  app.add_option("--tolerances", tolerances, "Relative tolerances to tessellate at")->delimiter(',');
+  CLI11_PARSE(app, argc, argv);
+
+  std::printf("| model | stage | size | measured peak MiB | estimate MiB | estimate / measured |\n");
+  std::printf("|---|---|---:|---:|---:|---:|\n");
+  for (const std::string& path : models) {
+    const ControlMesh mesh = readObjFile(path);
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    int64_t estimated = 0, refined = 0;
+    PreprocessingOptions options;
+    options.beforeRefining = [&](int64_t vertices) { estimated = vertices; };
+    options.afterRefining = [&](int64_t vertices) { refined = vertices; };
+    int64_t rest = restartPeak();
+    const PatchSet patches = buildPatchSet(mesh, options);
+    int64_t peak = statusBytes("VmHWM:") - rest;
+    const int64_t preprocessing = preprocessingBytes(mesh, refined);
+    std::printf("| %s | preprocessing | %lld refined vertices (estimated %lld) | %.0f | %.0f | %.2f |\n", name.c_str(),
+                (long long)refined, (long long)estimated, mib(peak), mib(preprocessing), double(preprocessing) / peak);
+    for (double tolerance : tolerances) {
+      TessellationOptions tessellation;
+      tessellation.tolerance = tolerance;
+      tessellation.relativeTolerance = true;
+      tessellation.maxTriangles = int64_t(1) << 40;
+      rest = restartPeak();
+      int64_t triangles = 0;
+      {
+        const TessellationResult result = tessellate(patches, mesh, tessellation);
+        const std::vector<uint8_t> glb = writeGlb(result.mesh, name);
+        triangles = result.summary.triangles;
+      }
+      peak = statusBytes("VmHWM:") - rest;
+      const int64_t estimate = tessellationBytes(triangles);
+      std::printf("| %s | tessellation + GLB at %g | %lld triangles | %.0f | %.0f | %.2f |\n", name.c_str(), tolerance,
+                  (long long)triangles, mib(peak), mib(estimate), double(estimate) / double(peak));
+    }
+  }
+  return 0;
+}
