@@ -22,7 +22,7 @@ TEST(FrameMemory, AFrameOverTheBudgetIsRefusedAtOnceAndOneWithinItIsDrawnWithinI
       dir.path(), {"--memory-budget", "2GiB", "--cache-bytes", "64MiB", "--patch-cache-bytes", "128MiB"}, env);
   ASSERT_TRUE(server);
   auto meshes = v1::MeshService::NewStub(server->channel());
-  ASSERT_TRUE(uploadMessages(*meshes, objUpload("bigguy", readFile(modelPath("bigguy.obj")))).status.ok());
+  ASSERT_TRUE(uploadModel(*meshes, "bigguy").status.ok());
   auto stub = v1::RenderService::NewStub(server->channel());
 
   const auto start = std::chrono::steady_clock::now();

@@ -81,7 +81,7 @@ void RenderServerTest::SetUpTestSuite() {
   ASSERT_TRUE(server_) << "tessera-server did not start";
   auto meshes = v1::MeshService::NewStub(server_->channel());
   UploadResult upload =
-      uploadMessages(*meshes, objUpload("bigguy", readFile(modelPath("bigguy.obj"))));
+      uploadModel(*meshes, "bigguy");
   ASSERT_TRUE(upload.status.ok()) << upload.status.error_message();
 }
 

@@ -61,7 +61,7 @@ TEST(LoadTest, ThirtyTwoClientsGetNoErrorsAndTheServerMemoryStaysBounded) {
   ASSERT_TRUE(server);
   auto meshes = v1::MeshService::NewStub(server->channel());
   UploadResult uploaded =
-      uploadMessages(*meshes, objUpload("bigguy", readFile(modelPath("bigguy.obj"))));
+      uploadModel(*meshes, "bigguy");
   ASSERT_TRUE(uploaded.status.ok()) << uploaded.status.error_message();
   const int64_t rssBefore = processMemoryBytes(server->pid(), "VmRSS");
   ASSERT_GT(rssBefore, 0);

@@ -45,12 +45,12 @@ TEST(MemoryBudget, AMeshWhosePreprocessingCannotFitIsRefusedAtUpload) {
       dir.path(), {"--memory-budget", "1GiB", "--cache-bytes", "64MiB", "--patch-cache-bytes", "64MiB"});
   ASSERT_TRUE(server);
   auto meshes = v1::MeshService::NewStub(server->channel());
-  const UploadResult refused = uploadMessages(*meshes, objUpload("armorguy", readFile(modelPath("armorguy.obj"))));
+  const UploadResult refused = uploadModel(*meshes, "armorguy");
   EXPECT_EQ(refused.status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
   const std::string& message = refused.status.error_message();
   EXPECT_TRUE(contains(message, "preprocessing the mesh needs about")) << message;
   EXPECT_TRUE(contains(message, "memory budget for jobs of 768 MiB")) << message;
-  EXPECT_TRUE(uploadMessages(*meshes, objUpload("bigguy", readFile(modelPath("bigguy.obj")))).status.ok());
+  EXPECT_TRUE(uploadModel(*meshes, "bigguy").status.ok());
 }
 
 // armorguy at uniform level 40 is ~28 million triangles, inside the default --max-triangles but
@@ -62,7 +62,7 @@ TEST(MemoryBudget, AnOutputThatCannotFitIsRefusedAndTheServerStaysWithinItsBudge
       dir.path(), {"--memory-budget", "3GiB", "--cache-bytes", "256MiB", "--patch-cache-bytes", "256MiB"});
   ASSERT_TRUE(server);
   auto meshes = v1::MeshService::NewStub(server->channel());
-  ASSERT_TRUE(uploadMessages(*meshes, objUpload("armorguy", readFile(modelPath("armorguy.obj")))).status.ok());
+  ASSERT_TRUE(uploadModel(*meshes, "armorguy").status.ok());
   auto tessellation = v1::TessellationService::NewStub(server->channel());
 
   v1::TessellateRequest huge;

@@ -19,7 +19,7 @@ TEST(MemoryRelease, ALargeTessellationLeavesOnlyWhatTheCachesHold) {
   auto server = ServerProcess::start(dir.path(), {});
   ASSERT_TRUE(server);
   auto meshes = v1::MeshService::NewStub(server->channel());
-  ASSERT_TRUE(uploadMessages(*meshes, objUpload("armorguy", readFile(modelPath("armorguy.obj")))).status.ok());
+  ASSERT_TRUE(uploadModel(*meshes, "armorguy").status.ok());
   const int64_t before = processMemoryBytes(server->pid(), "VmRSS");
   const std::string metricsBefore = httpGet(server->metricsAddress(), "/metrics");
 

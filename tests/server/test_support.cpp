@@ -325,6 +325,10 @@ std::vector<v1::UploadMeshRequest> objUpload(const std::string& id, const std::s
   return messages;
 }
 
+UploadResult uploadModel(v1::MeshService::Stub& stub, const std::string& name) {
+  return uploadMessages(stub, objUpload(name, readFile(modelPath(name + ".obj"))));
+}
+
 MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc::Status* status,
                         v1::Mesh* metadata) {
   grpc::ClientContext context;

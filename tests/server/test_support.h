@@ -114,6 +114,9 @@ std::vector<v1::UploadMeshRequest> objUpload(const std::string& id, const std::s
                                              size_t bytesPerChunk = 64 * 1024,
                                              const std::string& displayName = {});
 
+// Uploads the model ../shared/models/<name>.obj as meshes/<name>.
+UploadResult uploadModel(v1::MeshService::Stub& stub, const std::string& name);
+
 // Downloads meshes/<id> and reassembles its arrays; the status of the call in *status.
 MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc::Status* status,
                         v1::Mesh* metadata = nullptr);

@@ -2,7 +2,7 @@
 // meshes beside core's estimates of them (core/memory_estimates.h), which a server admits jobs
 // by: every estimate must sit above what was measured. Writes bench/MEMORY-RESULTS.md's table.
 //
-//   tessera-memory-fit MODEL.obj... [--tolerances 1e-2,1e-3,1e-4]
+//   tessera-memory-fit MODEL.obj... [--tolerances 1e-2,1e-3,1e-4] [--levels 3,5]
 #include <malloc.h>
 
 #include <CLI/CLI.hpp>
@@ -47,7 +47,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> models;
   std::vector<double> tolerances{1e-2, 1e-3, 1e-4};
   app.add_option("models", models, "OBJ files")->required();
+  std::vector<int> levels;
   app.add_option("--tolerances", tolerances, "Relative tolerances to tessellate at")->delimiter(',');
+  app.add_option("--levels", levels, "Uniform levels to tessellate at")->delimiter(',');
   CLI11_PARSE(app, argc, argv);
 
   std::printf("| model | stage | size | measured peak MiB | estimate MiB | estimate / measured |\n");
@@ -65,10 +67,13 @@ int main(int argc, char** argv) {
     const int64_t preprocessing = preprocessingBytes(mesh, refined);
     std::printf("| %s | preprocessing | %lld refined vertices (estimated %lld) | %.0f | %.0f | %.2f |\n", name.c_str(),
                 (long long)refined, (long long)estimated, mib(peak), mib(preprocessing), double(preprocessing) / peak);
+    std::vector<TessellationOptions> requests;
     for (double tolerance : tolerances) {
-      TessellationOptions tessellation;
-      tessellation.tolerance = tolerance;
-      tessellation.relativeTolerance = true;
+      requests.emplace_back().tolerance = tolerance;
+      requests.back().relativeTolerance = true;
+    }
+    for (int level : levels) requests.emplace_back().uniformLevel = level;
+    for (TessellationOptions tessellation : requests) {
       tessellation.maxTriangles = int64_t(1) << 40;
       rest = restartPeak();
       int64_t triangles = 0;
@@ -79,7 +84,9 @@ int main(int argc, char** argv) {
       }
       peak = statusBytes("VmHWM:") - rest;
       const int64_t estimate = tessellationBytes(triangles);
-      std::printf("| %s | tessellation + GLB at %g | %lld triangles | %.0f | %.0f | %.2f |\n", name.c_str(), tolerance,
+      const std::string at = tessellation.uniformLevel > 0 ? "uniform level " + std::to_string(tessellation.uniformLevel)
+                                                           : std::to_string(tessellation.tolerance);
+      std::printf("| %s | tessellation + GLB at %s | %lld triangles | %.0f | %.0f | %.2f |\n", name.c_str(), at.c_str(),
                   (long long)triangles, mib(peak), mib(estimate), double(estimate) / double(peak));
     }
   }
