@@ -126,12 +126,18 @@ void AdmissionControl::reserve(Slot& slot, int64_t bytes, std::string_view what)
                                   memoryNote_.empty() ? "" : " (" + memoryNote_ + ")"));
   }
   ++growing_;
+  auto stopGrowing = [&] {
+    --growing_;
+    changed_.notify_all();
+  };
   while (reserved_ + bytes > memory_) {
+    if (slot.cancel_->cancelled()) {
+      stopGrowing();
+      throw OperationCancelled();
+    }
     // Only a running job that is not itself waiting can give memory back.
-    if (running_ - growing_ <= 0 || slot.cancel_->cancelled()) {
-      --growing_;
-      changed_.notify_all();
-      if (slot.cancel_->cancelled()) throw OperationCancelled();
+    if (running_ - growing_ <= 0) {
+      stopGrowing();
       ++rejected_;
       const int64_t retryAfter = retryAfterMsLocked();
       throw StatusError(grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -143,10 +149,9 @@ void AdmissionControl::reserve(Slot& slot, int64_t bytes, std::string_view what)
     }
     changed_.wait_for(lock, kCancelPollInterval);
   }
-  --growing_;
   reserved_ += bytes;
   slot.bytes_ += bytes;
-  changed_.notify_all();
+  stopGrowing();
 }
 
 void AdmissionControl::giveBack(Slot& slot, int64_t bytes) {

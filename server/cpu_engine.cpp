@@ -1,6 +1,5 @@
 #include "server/cpu_engine.h"
 
-#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -25,12 +24,10 @@ TessellationOptions optionsFor(const TessellationJob& job, const CancellationTok
   }
   options.checkpoint = [&cancel] { cancel.throwIfCancelled(); };
   if (job.memory) {
-    // The output's memory, reserved once the plan knows its triangles (again, for the
-    // difference, if planning goes round again with more).
+    // The output's memory, reserved once the plan knows its triangles (and set again if
+    // planning goes round again).
     options.beforeOutput = [memory = job.memory, held = int64_t(0)](int64_t triangles) mutable {
-      const int64_t need = tessellationBytes(triangles);
-      if (need > held) memory->reserve(need - held, "the output (" + std::to_string(triangles) + " triangles)");
-      held = std::max(held, need);
+      memory->hold(held, tessellationBytes(triangles), "the output (" + std::to_string(triangles) + " triangles)");
     };
   }
   return options;

@@ -20,6 +20,14 @@ class MemoryReservation {
   virtual void reserve(int64_t bytes, std::string_view what) = 0;
   // Gives back part of what was reserved (an estimate that turned out high).
   virtual void release(int64_t bytes) = 0;
+
+  // Keeps what the job holds for one part of its work (`held`) at `bytes`: reserves the
+  // difference for `what`, or gives back the excess of an estimate that turned out high.
+  void hold(int64_t& held, int64_t bytes, std::string_view what) {
+    if (bytes > held) reserve(bytes - held, what);
+    if (bytes < held) release(held - bytes);
+    held = bytes;
+  }
 };
 
 }  // namespace tessera::server

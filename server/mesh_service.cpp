@@ -56,6 +56,7 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     // Parsing and validating is the CPU-heavy part; receiving is not, so it waits outside.
     AdmissionControl::Slot slot = admission_.acquire(cancel);
     AssembledUpload assembled = upload.finish();
+    admission_.requireFits(assembled.preprocessingBytes, assembled.where + "preprocessing the mesh");
     cancel.throwIfCancelled();
     MeshMetadata stored = repository_.create(std::move(assembled.mesh), std::move(assembled.metadata));
     toProto(stored, response);

@@ -9,7 +9,6 @@
 #include "core/memory_estimates.h"
 #include "core/obj_reader.h"
 #include "core/refinement_budget.h"
-#include "server/admission_control.h"
 #include "server/mesh_names.h"
 #include "server/status_error.h"
 
@@ -168,16 +167,9 @@ AssembledUpload UploadAssembler::finish() {
   } catch (const TesseraError& error) {
     rethrowWithPrefix(error, where);
   }
-  // What preprocessing will reserve for certain: the refinement as estimated, and the part that
-  // does not depend on it.
-  const int64_t least = std::max(refinementBytes(refined), preprocessingBytes(mesh, 0));
-  if (least > limits_.maxPreprocessingBytes) {
-    throwStatus(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                fmt::format("{}preprocessing the mesh needs about {} of memory, over the server's memory budget "
-                            "for jobs of {} (--memory-budget less the caches)",
-                            where, formatBytes(least), formatBytes(limits_.maxPreprocessingBytes)));
-  }
-  return AssembledUpload{std::move(mesh), metadata_};
+  // The refinement as estimated, and the part that does not depend on it.
+  const int64_t preprocessing = std::max(refinementBytes(refined), preprocessingBytes(mesh, 0));
+  return AssembledUpload{std::move(mesh), metadata_, preprocessing, where};
 }
 
 ControlMesh UploadAssembler::buildFromArrays() {

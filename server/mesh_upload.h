@@ -23,15 +23,16 @@ struct UploadLimits {
   // per vertex, so the default bounds preprocessing at ~2.6 GB. Checked at upload and again when
   // a mesh is preprocessed.
   int64_t maxRefinedVertices = 4'000'000;
-  // The server's memory budget for jobs (admission_control.h): a mesh whose preprocessing is
-  // sure to reserve more (core/memory_estimates.h) could never be drawn or tessellated.
-  int64_t maxPreprocessingBytes = INT64_MAX / 4;
 };
 
 struct AssembledUpload {
   ControlMesh mesh;
   // id, displayName, sourceFormat and sourceBytes; the rest is filled when it is stored.
   MeshMetadata metadata;
+  // What preprocessing the mesh is sure to reserve (core/memory_estimates.h): the caller refuses
+  // a mesh that could never fit the server's memory budget (admission_control.h).
+  int64_t preprocessingBytes = 0;
+  std::string where;  // the mesh in messages: "NAME: " or "arrays: "
 };
 
 class UploadAssembler {

@@ -35,14 +35,10 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, cons
   int64_t held = 0;
   if (memory) {
     options.beforeRefining = [&](int64_t estimate) {
-      held = refinementBytes(estimate);
-      memory->reserve(held, "OpenSubdiv's refinement of the mesh");
+      memory->hold(held, refinementBytes(estimate), "OpenSubdiv's refinement of the mesh");
     };
     options.afterRefining = [&](int64_t refined) {
-      const int64_t need = preprocessingBytes(mesh, refined);
-      if (need > held) memory->reserve(need - held, "preprocessing the mesh");
-      if (need < held) memory->release(held - need);
-      held = need;
+      memory->hold(held, preprocessingBytes(mesh, refined), "preprocessing the mesh");
     };
   }
   auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));

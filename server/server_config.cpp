@@ -207,7 +207,6 @@ void finalizeServerConfig(ServerConfig& c) {
         formatBytes(c.patchCacheBytes), formatBytes(kServerBaseBytes),
         formatBytes(c.cacheBytes + c.patchCacheBytes + 2 * kServerBaseBytes)));
   }
-  c.upload.maxPreprocessingBytes = c.jobMemoryBytes;
 }
 
 bool listensOnLoopbackOnly(const std::string& listen) {
