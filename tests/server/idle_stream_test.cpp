@@ -1,6 +1,7 @@
 // Clients that open streams and then stall them: a stream whose client sends (or reads) nothing
 // for --stream-idle-timeout is cancelled, and past --max-open-streams new streaming calls are
 // refused at once, so that idle streams cannot take the threads that other calls need.
+#include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -53,11 +54,17 @@ TEST(IdleStreams, ADownloadWhoseClientReadsNothingIsCancelled) {
   auto stub = v1::MeshService::NewStub(server->channel());
   // Megabytes of arrays: more than the flow-control windows hold, so the server's writes wait.
   ASSERT_TRUE(uploadMessages(*stub, arraysUpload("large", gridMesh(500, 0))).status.ok());
+  // The reading client's window stays at gRPC's 64 KiB: left to probe the bandwidth, gRPC grew it
+  // past the whole download on a loaded machine, and the server never had to wait.
+  grpc::ChannelArguments fixedWindow;
+  fixedWindow.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+  auto reading = v1::MeshService::NewStub(
+      grpc::CreateCustomChannel(server->address(), grpc::InsecureChannelCredentials(), fixedWindow));
   grpc::ClientContext context;
   prepare(context, {}, 60);
   v1::DownloadMeshRequest request;
   request.set_name("meshes/large");
-  auto reader = stub->DownloadMesh(&context, request);
+  auto reader = reading->DownloadMesh(&context, request);
   v1::DownloadMeshResponse message;
   ASSERT_TRUE(reader->Read(&message));
   std::this_thread::sleep_for(std::chrono::seconds(4));
