@@ -3,6 +3,7 @@
 #include <arpa/inet.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -89,7 +90,7 @@ void addLimitOptions(CLI::App& app, ServerConfig& c) {
               ->capture_default_str()->group(group),
           "TESSERA_MAX_CONCURRENT_JOBS");
   withEnv(app.add_option("--max-queued-jobs", c.maxQueuedJobs,
-                         "Heavy jobs waiting; more are refused (negative: 4 per running job)")
+                         "Heavy jobs waiting; more are refused (negative: 32 per running job, at most --max-open-streams)")
               ->capture_default_str()->group(group),
           "TESSERA_MAX_QUEUED_JOBS");
   withEnv(app.add_option("--max-open-streams", c.maxOpenStreams,
@@ -173,7 +174,10 @@ void finalizeServerConfig(ServerConfig& c) {
   if (c.maxConcurrentJobs == 0) {
     c.maxConcurrentJobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   }
-  if (c.maxQueuedJobs < 0) c.maxQueuedJobs = 4 * c.maxConcurrentJobs;
+  // A deep first-come-first-served queue is what keeps clients that ignore the retry hint from
+  // taking every freed place from those that wait it out (bench/SOAK-RESULTS.md); a queued job
+  // holds a thread and its request, no memory budget. At most the streams the server keeps open.
+  if (c.maxQueuedJobs < 0) c.maxQueuedJobs = std::min(32 * c.maxConcurrentJobs, c.maxOpenStreams);
   requirePositive(c.maxConcurrentJobs, "--max-concurrent-jobs");
   requirePositive(c.maxOpenStreams, "--max-open-streams");
   if (!(c.storeTimeoutSeconds > 0)) throw std::invalid_argument("--store-timeout must be positive");

@@ -182,7 +182,7 @@ done
 echo "peak $(memory_kib "$server_pid" VmHWM)" >>"$work/sweep-memory.txt"
 stop_server
 
-# 2. The default admission limits (running = cores, queue = 4 x cores) under 32 clients.
+# 2. The default admission limits (running = cores, queue = 32 per running job) under 32 clients.
 log "32 clients against the default admission limits"
 start_server defaults
 measure_quietly defaults bench --mix "$mix" --mesh meshes/bigguy "${small_request[@]}" \

@@ -192,7 +192,7 @@ TEST_F(TessellationServiceTest, ServerInfoDescribesTheEngineAndLimits) {
   EXPECT_FALSE(response.auth_required());
   EXPECT_EQ(response.limits().max_triangles(), 12345);
   EXPECT_EQ(response.limits().max_concurrent_jobs(), 3);
-  EXPECT_EQ(response.limits().max_queued_jobs(), 12);  // 4 per running job by default
+  EXPECT_EQ(response.limits().max_queued_jobs(), 96);  // 32 per running job by default
   // The tessellation engine comes first; a renderer, when built, is listed after it.
   ASSERT_GE(response.backends_size(), 1);
   EXPECT_EQ(response.backends(0).name(), "test-pattern");
