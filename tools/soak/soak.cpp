@@ -13,7 +13,6 @@
 // the normal requests' latency, and whether the server still serves a normal request at the end.
 // Exits 1 when a request ended with a code it may not end with or the last request failed.
 #include <grpcpp/grpcpp.h>
-#include <sys/types.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -64,11 +63,6 @@ std::string readText(const std::filesystem::path& path) {
   return text.str();
 }
 
-void authorize(grpc::ClientContext& context, const std::string& token) {
-  if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
-  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(300));
-}
-
 // The small mesh seen whole from +z, for the frames.
 v1::Camera viewOf(const v1::Mesh& mesh) {
   const v1::BoundingBox& box = mesh.bounding_box();
@@ -95,7 +89,7 @@ v1::Mesh ensureModel(v1::MeshService::Stub& stub, const Options& options, const 
     throw std::runtime_error("uploading " + model + ": " + uploaded.error_message());
   }
   grpc::ClientContext context;
-  authorize(context, options.token);
+  tessera::soak::prepare(context, options.token, 300);
   v1::GetMeshRequest request;
   request.set_name("meshes/" + id);
   v1::Mesh mesh;
@@ -106,7 +100,7 @@ v1::Mesh ensureModel(v1::MeshService::Stub& stub, const Options& options, const 
 
 v1::ServerInfo serverInfo(const std::shared_ptr<grpc::Channel>& channel, const std::string& token) {
   grpc::ClientContext context;
-  authorize(context, token);
+  tessera::soak::prepare(context, token, 300);
   v1::ServerInfo info;
   const grpc::Status status = v1::ServerInfoService::NewStub(channel)->GetServerInfo(&context, {}, &info);
   if (!status.ok()) throw std::runtime_error("GetServerInfo: " + status.error_message());

@@ -17,12 +17,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Code = grpc::StatusCode;
 
-void prepare(grpc::ClientContext& context, const std::string& token, double seconds) {
-  if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
-  context.set_deadline(std::chrono::system_clock::now() +
-                       std::chrono::milliseconds(int64_t(seconds * 1000)));
-}
-
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -167,6 +161,12 @@ Outcome malformedUpload(SoakClient& client, const SoakSetup& setup, const std::s
 }
 
 }  // namespace
+
+void prepare(grpc::ClientContext& context, const std::string& token, double seconds) {
+  if (!token.empty()) context.AddMetadata("authorization", "Bearer " + token);
+  context.set_deadline(std::chrono::system_clock::now() +
+                       std::chrono::milliseconds(int64_t(seconds * 1000)));
+}
 
 SoakClient::SoakClient(const std::shared_ptr<grpc::Channel>& channel)
     : meshes(v1::MeshService::NewStub(channel)),

@@ -28,6 +28,9 @@ struct SoakSetup {
   bool renderAvailable = false;
 };
 
+// The bearer token (if any) and a deadline `seconds` from now on a call's context.
+void prepare(grpc::ClientContext& context, const std::string& token, double seconds);
+
 // One client's stubs on a channel of its own, as separate clients would have.
 struct SoakClient {
   explicit SoakClient(const std::shared_ptr<grpc::Channel>& channel);
