@@ -149,7 +149,7 @@ void tesseraGlb(benchmark::State& state, const std::string& name, double eps) {
   const CpuSample before = sampleCpu();
   for (auto _ : state) {
     TessellationResult result = tessellate(m.patches, m.mesh, options);
-    std::vector<uint8_t> glb = writeGlb(result.mesh, name);
+    std::vector<uint8_t> glb = writeGlb(result.mesh, {.description = {.sourceName = name}});
     triangles = result.summary.triangles;
     bound = result.summary.guaranteedBound, tolerance = result.summary.tolerance;
     bytes = glb.size();

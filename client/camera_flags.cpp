@@ -40,6 +40,9 @@ void TessellateFlags::addTo(CLI::App& command) {
   command.add_option("--size", size, "Viewport WIDTHxHEIGHT");
   command.add_option("--pixel-accuracy", pixelAccuracy, "Screen-space tolerance in pixels (default 0.5)");
   command.add_option("--max-triangles", maxTriangles, "Refuse requests past this many triangles");
+  command.add_option("--encoding", encoding,
+                     "GLB encoding: float (default), quantized (KHR_mesh_quantization, its error set aside from "
+                     "the tolerance) or meshopt (that, compressed with EXT_meshopt_compression)");
 }
 
 TessellationOptions TessellateFlags::toOptions() const {

@@ -21,6 +21,7 @@ struct TessellateFlags {
   double fov = 45;
   double pixelAccuracy = 0.5;
   long long maxTriangles = 20'000'000;
+  std::string encoding = "float";  // GLB encoding: float, quantized or meshopt (core/glb_writer.h)
 
   void addTo(CLI::App& command);
   // Throws TesseraError (kInvalidInput) naming the flag for malformed values.

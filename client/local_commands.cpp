@@ -10,7 +10,9 @@
 #include "core/error.h"
 #include "core/mesh_report.h"
 #include "core/obj_reader.h"
-#include "core/glb_writer.h"
+#include "core/glb_output.h"
+#include "core/mesh_codec.h"
+#include "core/sha256.h"
 #include "core/tessellate.h"
 #include "client/camera_flags.h"
 #if TESSERA_WITH_REMOTE
@@ -123,12 +125,16 @@ int runLocalTessellate(const TessellateFlags& flags) {
     PatchSet patches = buildPatchSet(mesh);
     double preprocessMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const GlbEncoding encoding = parseGlbEncoding(flags.encoding);
+    const std::optional<PositionQuantization> positions = reserveForEncoding(encoding, patches, options);
     TessellationResult result = tessellate(patches, mesh, options);
     // Named by the file's stem, as a server names it by the mesh id ("bigguy" for bigguy.obj
-    // uploaded as meshes/bigguy): the output does not depend on where the input lay, and a
-    // local and a remote tessellation of the same mesh are the same bytes.
-    std::vector<uint8_t> glb =
-        writeGlb(result.mesh, std::filesystem::path(flags.model).stem().string());
+    // uploaded as meshes/bigguy), with the SHA-256 the server would give it: the output does not
+    // depend on where the input lay, and a local and a remote tessellation of the same mesh are
+    // the same bytes.
+    const GlbRequest request{encoding, std::filesystem::path(flags.model).stem().string(),
+                             sha256Hex(encodeCanonicalMesh(mesh))};
+    std::vector<uint8_t> glb = writeGlb(result.mesh, glbOptionsFor(request, options, result.summary, positions));
     std::ofstream out(flags.output, std::ios::binary);
     out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
     if (!out) {

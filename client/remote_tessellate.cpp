@@ -78,6 +78,13 @@ v1::TessellateRequest buildRequest(const RemoteTessellateArgs& a) {
   if (a.eta) request.set_eta(*a.eta);
   if (a.level) request.set_uniform_level(*a.level);
   if (a.maxTriangles) request.set_max_triangles(*a.maxTriangles);
+  if (a.encoding == "quantized") {
+    request.set_encoding(v1::GLB_ENCODING_QUANTIZED);
+  } else if (a.encoding == "meshopt") {
+    request.set_encoding(v1::GLB_ENCODING_MESHOPT);
+  } else if (!a.encoding.empty() && a.encoding != "float") {
+    throw UsageError("--encoding must be float, quantized or meshopt, got \"" + a.encoding + "\"");
+  }
   if (a.output.empty()) throw UsageError("-o OUT.glb is required");
   return request;
 }

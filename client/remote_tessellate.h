@@ -30,6 +30,7 @@ struct RemoteTessellateArgs {
   std::optional<double> eta;
   std::optional<int> level;          // uniform tessellation level
   std::optional<int64_t> maxTriangles;
+  std::string encoding;              // "float", "quantized", "meshopt"; empty: the server's default
   // View-dependent tolerance: all of eye, target, up, fov and size, or none.
   std::string eye, target, up;       // "X,Y,Z"
   std::optional<double> fovDeg;

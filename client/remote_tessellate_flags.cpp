@@ -26,6 +26,7 @@ int runRemoteTessellate(const CLI::App& root, const TessellateFlags& flags) {
   if (flags.level != 0) args.level = flags.level;
   // Only when given: the local default budget may exceed what the server allows.
   if (flagGiven(root, "--max-triangles")) args.maxTriangles = flags.maxTriangles;
+  args.encoding = flags.encoding;
   // The local flags give the camera's up, field of view and size defaults; --eye turns it on.
   if (!flags.eye.empty() || !flags.target.empty()) {
     args.eye = flags.eye;

@@ -2,20 +2,19 @@
 
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
-#include <cstring>
-#include <nlohmann/json.hpp>
+#include <meshoptimizer.h>
 
-#define TINYGLTF_NO_STB_IMAGE
-#define TINYGLTF_NO_STB_IMAGE_WRITE
-#define TINYGLTF_NO_EXTERNAL_IMAGE
-#define TINYGLTF_NO_INCLUDE_STB_IMAGE
-#define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
-#define TINYGLTF_USE_CPP14
-#define TINYGLTF_IMPLEMENTATION
-#include <tiny_gltf.h>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
 
 #include "core/error.h"
+#include "core/version.h"
 
 namespace tessera {
 
@@ -26,87 +25,275 @@ namespace {
 constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
 constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
-constexpr int kFloat = 5126, kUnsignedShort = 5123, kUnsignedInt = 5125;
+constexpr int kByte = 5120, kShort = 5122, kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+constexpr const char* kQuantization = "KHR_mesh_quantization";
 
 size_t padded(size_t bytes) { return (bytes + 3) & ~size_t(3); }
 
 // Indices as 16-bit integers when every vertex fits (a quarter less to send and to hash for
 // typical results of up to ~130K triangles); 65535 is glTF's primitive-restart value and may not
 // be used, so 16 bits hold at most 65535 vertices.
-bool fitsShortIndices(const TriangleMesh& mesh) { return mesh.positions.size() <= 65535; }
+bool fitsShortIndices(size_t vertices) { return vertices <= 65535; }
 
-// The accessor bounds glTF requires for positions: the exact float extremes.
-void positionBounds(const std::vector<Vec3>& positions, nlohmann::json& lo, nlohmann::json& hi) {
+// Quantized attributes, padded so every element starts on 4 bytes (glTF §3.6.2.4).
+struct QuantizedPosition {
+  std::array<int16_t, 3> q;
+  int16_t pad = 0;
+};
+struct QuantizedNormal {
+  int8_t x, y, z, pad = 0;
+};
+
+QuantizedNormal quantizeNormal(const Vec3& n) {
+  auto axis = [](float value) { return int8_t(std::clamp(std::nearbyint(value * 127.0f), -127.0f, 127.0f)); };
+  return {axis(n.x), axis(n.y), axis(n.z)};
+}
+
+// One bufferView: its element layout and bytes (the mesh's own arrays where they are stored as
+// they are), kept as they are or, with EXT_meshopt_compression, encoded (attributes or triangles
+// mode) in the BIN chunk while the view itself lies in a placeholder buffer.
+struct View {
+  const uint8_t* data = nullptr;  // the bytes a reader sees
+  size_t size = 0;
+  std::vector<uint8_t> owned;     // those bytes when the mesh does not hold them
+  size_t stride = 0, count = 0;
+  int target = kArrayBuffer;
+  std::vector<uint8_t> compressed;  // empty: stored as is
+};
+
+template <typename T>
+View viewOf(const std::vector<T>& values, int target = kArrayBuffer) {
+  View view;
+  view.stride = sizeof(T), view.count = values.size(), view.target = target;
+  view.data = reinterpret_cast<const uint8_t*>(values.data());
+  view.size = values.size() * sizeof(T);
+  return view;
+}
+
+template <typename T>
+View ownedViewOf(const std::vector<T>& values, int target = kArrayBuffer) {
+  View view = viewOf(values, target);
+  view.owned.assign(view.data, view.data + view.size);
+  view.data = view.owned.data();
+  return view;
+}
+
+View indexView(const std::vector<uint32_t>& indices, size_t vertices) {
+  if (!fitsShortIndices(vertices)) return viewOf(indices, kElementArrayBuffer);
+  std::vector<uint16_t> narrow(indices.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size(), 1 << 16), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) narrow[i] = static_cast<uint16_t>(indices[i]);
+  });
+  return ownedViewOf(narrow, kElementArrayBuffer);
+}
+
+// The bitstream versions EXT_meshopt_compression specifies (attributes 0xa0, triangles 0xe1).
+void useSpecifiedCodecVersions() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    meshopt_encodeVertexVersion(0);
+    meshopt_encodeIndexVersion(1);
+  });
+}
+
+void compressAttributes(View& view) {
+  view.compressed.resize(meshopt_encodeVertexBufferBound(view.count, view.stride));
+  view.compressed.resize(meshopt_encodeVertexBuffer(view.compressed.data(), view.compressed.size(),
+                                                    view.data, view.count, view.stride));
+}
+
+void compressTriangles(View& view, const std::vector<uint32_t>& indices, size_t vertices) {
+  view.compressed.resize(meshopt_encodeIndexBufferBound(indices.size(), vertices));
+  view.compressed.resize(
+      meshopt_encodeIndexBuffer(view.compressed.data(), view.compressed.size(), indices.data(), indices.size()));
+}
+
+// The mesh as the file stores it: attributes in the encoding's types; for EXT_meshopt_compression
+// triangles ordered for the vertex cache and vertices in first-use order, which is what its codecs
+// compress well (the same triangles over the same vertices).
+struct Stored {
+  std::vector<View> views;  // positions, normals, indices
+  int positionType = kFloat, normalType = kFloat;
+  std::array<double, 3> positionMin{}, positionMax{};
+};
+
+void positionBounds(const std::vector<Vec3>& positions, Stored& stored) {
   if (positions.empty()) return;
   Vec3 a = positions[0], b = positions[0];
   for (const Vec3& v : positions) {
     a = Vec3(std::min(a.x, v.x), std::min(a.y, v.y), std::min(a.z, v.z));
     b = Vec3(std::max(b.x, v.x), std::max(b.y, v.y), std::max(b.z, v.z));
   }
-  lo = {double(a.x), double(a.y), double(a.z)};
-  hi = {double(b.x), double(b.y), double(b.z)};
+  stored.positionMin = {a.x, a.y, a.z};
+  stored.positionMax = {b.x, b.y, b.z};
 }
 
-// The JSON chunk: one scene, one node, one mesh whose primitive reads positions, normals and
-// indices from three views of the one binary buffer laid out in that order.
-std::string glbJson(const TriangleMesh& mesh, const std::string& meshName, size_t indexBytes, size_t binBytes) {
-  const size_t vertexBytes = mesh.positions.size() * sizeof(Vec3);
-  nlohmann::json position = {{"bufferView", 0}, {"componentType", kFloat}, {"count", mesh.positions.size()}, {"type", "VEC3"}};
-  if (!mesh.positions.empty()) positionBounds(mesh.positions, position["min"], position["max"]);
-  const nlohmann::json json = {
-      {"asset", {{"version", "2.0"}, {"generator", "Tessera"}}},
+Stored storePlain(const TriangleMesh& mesh) {
+  Stored stored;
+  positionBounds(mesh.positions, stored);
+  stored.views.push_back(viewOf(mesh.positions));
+  stored.views.push_back(viewOf(mesh.normals));
+  stored.views.push_back(indexView(mesh.indices, mesh.positions.size()));
+  return stored;
+}
+
+Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
+  const size_t vertexCount = mesh.positions.size();
+  std::vector<uint32_t> indices = mesh.indices;
+  std::vector<uint32_t> order(vertexCount);  // stored vertex k is mesh vertex order[k]
+  std::iota(order.begin(), order.end(), 0u);
+  size_t stored = vertexCount;
+  const bool compress = options.encoding == GlbEncoding::kMeshopt;
+  if (compress && !indices.empty()) {
+    meshopt_optimizeVertexCache(indices.data(), mesh.indices.data(), indices.size(), vertexCount);
+    std::vector<uint32_t> remap(vertexCount);
+    stored = meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indices.size(), vertexCount);
+    meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
+    order.assign(stored, 0);
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+      if (remap[v] != ~0u) order[remap[v]] = v;
+    }
+  }
+  Stored result;
+  std::vector<QuantizedNormal> normals(stored);
+  for (size_t k = 0; k < stored; ++k) normals[k] = quantizeNormal(mesh.normals[order[k]]);
+  result.normalType = kByte;
+  if (options.positions) {
+    std::vector<QuantizedPosition> positions(stored);
+    std::array<int, 3> lo{32767, 32767, 32767}, hi{-32767, -32767, -32767};
+    for (size_t k = 0; k < stored; ++k) {
+      positions[k].q = options.positions->quantize(mesh.positions[order[k]]);
+      for (int a = 0; a < 3; ++a) lo[a] = std::min<int>(lo[a], positions[k].q[a]), hi[a] = std::max<int>(hi[a], positions[k].q[a]);
+    }
+    result.positionType = kShort;
+    for (int a = 0; a < 3; ++a) result.positionMin[a] = lo[a], result.positionMax[a] = hi[a];
+    result.views.push_back(ownedViewOf(positions));
+  } else {
+    std::vector<Vec3> positions(stored);
+    for (size_t k = 0; k < stored; ++k) positions[k] = mesh.positions[order[k]];
+    positionBounds(positions, result);
+    result.views.push_back(ownedViewOf(positions));
+  }
+  result.views.push_back(ownedViewOf(normals));
+  View index = indexView(indices, stored);
+  if (index.owned.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // `indices` is local
+  result.views.push_back(std::move(index));
+  if (compress) {
+    useSpecifiedCodecVersions();
+    compressAttributes(result.views[0]);
+    compressAttributes(result.views[1]);
+    compressTriangles(result.views[2], indices, stored);
+  }
+  return result;
+}
+
+nlohmann::json extrasOf(const GlbOptions& options) {
+  const GlbDescription& d = options.description;
+  nlohmann::json extras = {{"encoding", glbEncodingName(options.encoding)},
+                           {"guaranteedBound", d.guaranteedBound},
+                           {"source", {{"name", d.sourceName}}}};
+  if (!d.sourceSha256.empty()) extras["source"]["sha256"] = d.sourceSha256;
+  if (d.tolerance) extras["tolerance"] = *d.tolerance;
+  if (d.pixelAccuracy) extras["pixelAccuracy"] = *d.pixelAccuracy;
+  if (d.uniformLevel > 0) extras["uniformLevel"] = d.uniformLevel;
+  if (options.positions) extras["positionError"] = options.positions->maxError;
+  return extras;
+}
+
+// The JSON chunk: one scene, one node (carrying the quantization grid's translation and scale),
+// one mesh whose primitive reads positions, normals and indices from three views.
+std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
+  const std::string& name = options.description.sourceName;
+  const bool compressed = !stored.views[0].compressed.empty();
+  nlohmann::json node = {{"mesh", 0}, {"name", name}};
+  if (options.positions) {
+    const PositionQuantization& q = *options.positions;
+    node["translation"] = {q.center.x, q.center.y, q.center.z};
+    node["scale"] = {q.step, q.step, q.step};
+  }
+  const View& indices = stored.views[2];
+  nlohmann::json accessors = {
+      {{"bufferView", 0}, {"componentType", stored.positionType}, {"count", stored.views[0].count}, {"type", "VEC3"}},
+      {{"bufferView", 1}, {"componentType", stored.normalType}, {"count", stored.views[1].count}, {"type", "VEC3"}},
+      {{"bufferView", 2},
+       {"componentType", indices.stride == 2 ? kUnsignedShort : kUnsignedInt},
+       {"count", indices.count},
+       {"type", "SCALAR"}}};
+  if (stored.views[0].count > 0) {
+    accessors[0]["min"] = stored.positionMin;
+    accessors[0]["max"] = stored.positionMax;
+  }
+  if (stored.normalType == kByte) accessors[1]["normalized"] = true;
+  nlohmann::json views = nlohmann::json::array();
+  size_t binOffset = 0, fallbackOffset = 0;
+  for (const View& view : stored.views) {
+    nlohmann::json json = {{"buffer", compressed ? 1 : 0}, {"byteLength", view.size}, {"target", view.target}};
+    // Vertex attributes padded past their element (quantized ones) name their stride.
+    if (view.target == kArrayBuffer && view.stride % 4 == 0 && view.stride != 12) json["byteStride"] = view.stride;
+    if (compressed) {
+      json["byteOffset"] = fallbackOffset;
+      fallbackOffset += padded(view.size);
+      json["extensions"][kMeshopt] = {{"buffer", 0},
+                                      {"byteOffset", binOffset},
+                                      {"byteLength", view.compressed.size()},
+                                      {"byteStride", view.stride},
+                                      {"count", view.count},
+                                      {"mode", view.target == kArrayBuffer ? "ATTRIBUTES" : "TRIANGLES"}};
+      binOffset += padded(view.compressed.size());
+    } else {
+      json["byteOffset"] = binOffset;
+      binOffset += padded(view.size);
+    }
+    views.push_back(json);
+  }
+  nlohmann::json buffers = {{{"byteLength", binBytes}}};
+  if (compressed) buffers.push_back({{"byteLength", fallbackOffset}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}});
+  nlohmann::json json = {
+      {"asset", {{"version", "2.0"}, {"generator", std::string("Tessera ") + kVersion}, {"extras", extrasOf(options)}}},
       {"scene", 0},
       {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"mesh", 0}, {"name", meshName}}}},
+      {"nodes", {node}},
       {"meshes",
-       {{{"name", meshName},
-         {"primitives",
-          {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"mode", kTriangles}}}}}}},
-      {"accessors",
-       {position,
-        {{"bufferView", 1}, {"componentType", kFloat}, {"count", mesh.normals.size()}, {"type", "VEC3"}},
-        {{"bufferView", 2},
-         {"componentType", fitsShortIndices(mesh) ? kUnsignedShort : kUnsignedInt},
-         {"count", mesh.indices.size()},
-         {"type", "SCALAR"}}}},
-      {"bufferViews",
-       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", vertexBytes}, {"target", kArrayBuffer}},
-        {{"buffer", 0}, {"byteOffset", vertexBytes}, {"byteLength", vertexBytes}, {"target", kArrayBuffer}},
-        {{"buffer", 0}, {"byteOffset", 2 * vertexBytes}, {"byteLength", indexBytes}, {"target", kElementArrayBuffer}}}},
-      {"buffers", {{{"byteLength", binBytes}}}}};
+       {{{"name", name},
+         {"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}, {"mode", kTriangles}}}}}}},
+      {"accessors", accessors},
+      {"bufferViews", views},
+      {"buffers", buffers}};
+  std::vector<std::string> extensions;
+  if (options.encoding != GlbEncoding::kFloat) extensions.push_back(kQuantization);
+  if (compressed) extensions.push_back(kMeshopt);
+  if (!extensions.empty()) json["extensionsUsed"] = json["extensionsRequired"] = extensions;
   return json.dump();
 }
 
 void put32(uint8_t* at, uint32_t value) { std::memcpy(at, &value, 4); }
 
-// The binary chunk's data: positions, normals, then indices (16-bit where they fit), written in
-// place on all cores.
-void writeBin(const TriangleMesh& mesh, uint8_t* out) {
-  const size_t vertexBytes = mesh.positions.size() * sizeof(Vec3);
-  if (vertexBytes) std::memcpy(out, mesh.positions.data(), vertexBytes);
-  if (vertexBytes) std::memcpy(out + vertexBytes, mesh.normals.data(), vertexBytes);
-  uint8_t* indices = out + 2 * vertexBytes;
-  if (!fitsShortIndices(mesh)) {
-    if (!mesh.indices.empty()) std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.indices.size(), 1 << 16), [&](const auto& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const uint16_t index = static_cast<uint16_t>(mesh.indices[i]);
-      std::memcpy(indices + i * sizeof(uint16_t), &index, sizeof index);
-    }
-  });
-}
-
 }  // namespace
 
-// Written straight into the result (the JSON is small; the binary chunk is copied once).
-std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshName) {
+const char* glbEncodingName(GlbEncoding encoding) {
+  switch (encoding) {
+    case GlbEncoding::kQuantized: return "quantized";
+    case GlbEncoding::kMeshopt: return "meshopt";
+    case GlbEncoding::kFloat: break;
+  }
+  return "float";
+}
+
+GlbEncoding parseGlbEncoding(const std::string& name) {
+  for (GlbEncoding e : {GlbEncoding::kFloat, GlbEncoding::kQuantized, GlbEncoding::kMeshopt}) {
+    if (name == glbEncodingName(e)) return e;
+  }
+  throwInvalid("unknown GLB encoding \"" + name + "\" (float, quantized or meshopt)");
+}
+
+std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& options) {
   if (mesh.normals.size() != mesh.positions.size()) throwInvalid("could not write the GLB: normals and positions differ in count");
-  const size_t indexBytes = mesh.indices.size() * (fitsShortIndices(mesh) ? sizeof(uint16_t) : sizeof(uint32_t));
-  const size_t binBytes = padded(2 * mesh.positions.size() * sizeof(Vec3) + indexBytes);
-  std::string json = glbJson(mesh, meshName, indexBytes, binBytes);
+  const Stored stored = options.encoding == GlbEncoding::kFloat ? storePlain(mesh) : storeQuantized(mesh, options);
+  size_t binBytes = 0;
+  for (const View& view : stored.views) binBytes += padded(view.compressed.empty() ? view.size : view.compressed.size());
+  std::string json = glbJson(stored, options, binBytes);
   json.resize(padded(json.size()), ' ');
   const size_t total = 12 + 8 + json.size() + 8 + binBytes;
   if (total > UINT32_MAX) throwLimit("the GLB would be over 4 GiB, the format's limit; raise the tolerance");
@@ -120,91 +307,199 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const std::string& meshN
   uint8_t* bin = glb.data() + 20 + json.size();
   put32(bin, uint32_t(binBytes));
   put32(bin + 4, kChunkBin);
-  writeBin(mesh, bin + 8);
+  uint8_t* at = bin + 8;
+  for (const View& view : stored.views) {
+    const bool compressed = !view.compressed.empty();
+    const size_t size = compressed ? view.compressed.size() : view.size;
+    if (size) std::memcpy(at, compressed ? view.compressed.data() : view.data, size);
+    at += padded(size);
+  }
   return glb;
 }
 
 namespace {
 
-// The bytes of accessor `index`, checked to lie inside its view and buffer.
-struct AccessorBytes {
-  const unsigned char* data;
-  size_t count;
+// A GLB taken apart (glTF 2.0 §4.4): its JSON and its BIN chunk (buffer 0).
+struct GlbFile {
+  nlohmann::json json;
+  const uint8_t* bin = nullptr;
+  size_t binSize = 0;
 };
 
-AccessorBytes accessorBytes(const tinygltf::Model& model, int index, int componentType, int type,
-                            size_t elementSize, const char* what) {
-  if (index < 0 || size_t(index) >= model.accessors.size()) throwInvalid(std::string("GLB has no ") + what);
-  const auto& accessor = model.accessors[index];
-  if (accessor.componentType != componentType || accessor.type != type) {
-    throwInvalid(std::string("GLB ") + what + " accessor has an unexpected type");
-  }
-  if (accessor.bufferView < 0 || size_t(accessor.bufferView) >= model.bufferViews.size()) {
-    throwInvalid(std::string("GLB ") + what + " accessor has no buffer view");
-  }
-  const auto& view = model.bufferViews[accessor.bufferView];
-  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) {
-    throwInvalid(std::string("GLB ") + what + " view has no buffer");
-  }
-  const auto& buffer = model.buffers[view.buffer];
-  const size_t bytes = accessor.count * elementSize;
-  if (view.byteStride != 0 && view.byteStride != elementSize) {
-    throwInvalid(std::string("GLB ") + what + " view is interleaved");
-  }
-  if (accessor.byteOffset + bytes > view.byteLength || view.byteOffset + view.byteLength > buffer.data.size()) {
-    throwInvalid(std::string("GLB ") + what + " accessor reaches past its buffer");
-  }
-  return {buffer.data.data() + view.byteOffset + accessor.byteOffset, accessor.count};
+uint32_t get32(const uint8_t* at) {
+  uint32_t value;
+  std::memcpy(&value, at, 4);
+  return value;
 }
 
-std::vector<Vec3> readVec3s(const tinygltf::Model& model, int index, const char* what) {
-  AccessorBytes bytes = accessorBytes(model, index, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                      TINYGLTF_TYPE_VEC3, sizeof(Vec3), what);
-  std::vector<Vec3> values(bytes.count);
-  if (bytes.count) std::memcpy(values.data(), bytes.data, bytes.count * sizeof(Vec3));
-  return values;
-}
-
-template <typename Index>
-std::vector<uint32_t> widenIndices(const AccessorBytes& bytes) {
-  std::vector<Index> narrow(bytes.count);
-  if (bytes.count) std::memcpy(narrow.data(), bytes.data, bytes.count * sizeof(Index));
-  return std::vector<uint32_t>(narrow.begin(), narrow.end());
-}
-
-std::vector<uint32_t> readIndices(const tinygltf::Model& model, int index) {
-  if (index >= 0 && size_t(index) < model.accessors.size() &&
-      model.accessors[index].componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-    return widenIndices<uint16_t>(accessorBytes(model, index, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                                TINYGLTF_TYPE_SCALAR, sizeof(uint16_t), "index"));
+GlbFile parseGlb(const std::vector<uint8_t>& bytes) {
+  if (bytes.size() < 20 || get32(bytes.data()) != kGlbMagic || get32(bytes.data() + 4) != 2 ||
+      get32(bytes.data() + 8) > bytes.size()) {
+    throwInvalid("not a readable GLB: no glTF 2.0 header");
   }
-  return widenIndices<uint32_t>(accessorBytes(model, index, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
-                                              TINYGLTF_TYPE_SCALAR, sizeof(uint32_t), "index"));
+  const size_t end = get32(bytes.data() + 8), jsonSize = get32(bytes.data() + 12);
+  if (get32(bytes.data() + 16) != kChunkJson || jsonSize > end - 20) throwInvalid("not a readable GLB: no JSON chunk");
+  GlbFile file;
+  file.json = nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + std::ptrdiff_t(jsonSize), nullptr, false);
+  if (file.json.is_discarded() || !file.json.is_object()) throwInvalid("not a readable GLB: its JSON does not parse");
+  const size_t binAt = 20 + jsonSize;
+  if (binAt + 8 <= end && get32(bytes.data() + binAt + 4) == kChunkBin) {
+    file.binSize = get32(bytes.data() + binAt);
+    if (file.binSize > end - binAt - 8) throwInvalid("not a readable GLB: its BIN chunk is cut short");
+    file.bin = bytes.data() + binAt + 8;
+  }
+  return file;
 }
 
-int attribute(const tinygltf::Primitive& primitive, const std::string& name) {
-  auto found = primitive.attributes.find(name);
-  if (found == primitive.attributes.end()) throwInvalid("GLB primitive has no " + name);
-  return found->second;
+size_t number(const nlohmann::json& object, const char* key) {
+  const auto found = object.find(key);
+  return found != object.end() && found->is_number_unsigned() ? found->get<size_t>() : 0;
+}
+
+const nlohmann::json& element(const nlohmann::json& json, const char* array, size_t index, const std::string& what) {
+  const auto found = json.find(array);
+  if (found == json.end() || !found->is_array() || index >= found->size()) throwInvalid("GLB has no " + what);
+  return (*found)[index];
+}
+
+// A view's bytes as a reader sees them: from the BIN chunk, or decoded from EXT_meshopt_compression.
+std::vector<uint8_t> viewBytes(const GlbFile& file, size_t index, const std::string& what) {
+  const nlohmann::json& view = element(file.json, "bufferViews", index, what + " view");
+  auto bin = [&](size_t buffer, size_t offset, size_t length) {
+    if (buffer != 0 || offset > file.binSize || length > file.binSize - offset) {
+      throwInvalid("GLB " + what + " view reaches past its buffer");
+    }
+    return file.bin + offset;
+  };
+  const size_t length = number(view, "byteLength");
+  const auto extensions = view.find("extensions");
+  if (extensions == view.end() || !extensions->contains(kMeshopt)) {
+    const uint8_t* data = bin(number(view, "buffer"), number(view, "byteOffset"), length);
+    return std::vector<uint8_t>(data, data + length);
+  }
+  const nlohmann::json& e = (*extensions)[kMeshopt];
+  const size_t stride = number(e, "byteStride"), count = number(e, "count"), compressed = number(e, "byteLength");
+  const uint8_t* data = bin(number(e, "buffer"), number(e, "byteOffset"), compressed);
+  const std::string mode = e.value("mode", "");
+  if (stride == 0 || stride > 256 || count * stride != length) throwInvalid("GLB " + what + " view's compressed layout does not match it");
+  std::vector<uint8_t> bytes(length);
+  const int status = mode == "ATTRIBUTES" ? meshopt_decodeVertexBuffer(bytes.data(), count, stride, data, compressed)
+                     : mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(bytes.data(), count, stride, data, compressed)
+                                           : -1;
+  if (status != 0) throwInvalid("GLB " + what + " view does not decode (mode \"" + mode + "\")");
+  return bytes;
+}
+
+size_t componentBytes(int componentType) {
+  switch (componentType) {
+    case kByte: return 1;
+    case kShort:
+    case kUnsignedShort: return 2;
+    case kUnsignedInt:
+    case kFloat: return 4;
+  }
+  return 0;
+}
+
+// Element k of accessor `index`, of one of the types writeGlb stores: components as floats
+// (normalized integers as glTF §3.11 maps them), or an index.
+class AccessorReader {
+ public:
+  AccessorReader(const GlbFile& file, size_t index, const char* type, const std::string& what) {
+    const nlohmann::json& accessor = element(file.json, "accessors", index, what);
+    componentType_ = int(number(accessor, "componentType"));
+    normalized_ = accessor.value("normalized", false);
+    count_ = number(accessor, "count");
+    const size_t element = componentBytes(componentType_) * (std::string(type) == "VEC3" ? 3 : 1);
+    if (accessor.value("type", "") != type || element == 0) throwInvalid("GLB " + what + " accessor has an unexpected type");
+    const size_t view = number(accessor, "bufferView");
+    bytes_ = viewBytes(file, view, what);
+    const size_t viewStride = number(file.json["bufferViews"][view], "byteStride");
+    stride_ = viewStride > 0 ? viewStride : element;
+    offset_ = number(accessor, "byteOffset");
+    if (count_ > 0 && (stride_ < element || offset_ + (count_ - 1) * stride_ + element > bytes_.size())) {
+      throwInvalid("GLB " + what + " accessor reaches past its buffer");
+    }
+  }
+  size_t count() const { return count_; }
+  float component(size_t k, int c) const {
+    const uint8_t* at = bytes_.data() + offset_ + k * stride_ + c * componentBytes(componentType_);
+    switch (componentType_) {
+      case kFloat: return load<float>(at);
+      case kShort: return scaled(load<int16_t>(at), 32767.0f);
+      case kByte: return scaled(load<int8_t>(at), 127.0f);
+    }
+    throwInvalid("GLB attribute has a component type writeGlb does not write");
+  }
+  uint32_t index(size_t k) const {
+    const uint8_t* at = bytes_.data() + offset_ + k * stride_;
+    if (componentType_ == kUnsignedShort) return load<uint16_t>(at);
+    if (componentType_ == kUnsignedInt) return load<uint32_t>(at);
+    throwInvalid("GLB indices are neither 16- nor 32-bit");
+  }
+
+ private:
+  template <typename T>
+  static T load(const uint8_t* at) {
+    T value;
+    std::memcpy(&value, at, sizeof value);
+    return value;
+  }
+  float scaled(float value, float largest) const { return normalized_ ? std::max(value / largest, -1.0f) : value; }
+
+  std::vector<uint8_t> bytes_;
+  size_t offset_ = 0, stride_ = 0, count_ = 0;
+  int componentType_ = 0;
+  bool normalized_ = false;
+};
+
+// The node's translation and scale (its defaults when absent), as a viewer's float32 values.
+std::array<float, 3> nodeVector(const nlohmann::json& file, const char* key, float fallback) {
+  std::array<float, 3> value{fallback, fallback, fallback};
+  const auto nodes = file.find("nodes");
+  if (nodes == file.end() || !nodes->is_array() || nodes->empty()) return value;
+  const auto found = (*nodes)[0].find(key);
+  if (found == (*nodes)[0].end() || !found->is_array() || found->size() != 3) return value;
+  for (size_t a = 0; a < 3; ++a) value[a] = (*found)[a].is_number() ? (*found)[a].get<float>() : fallback;
+  return value;
+}
+
+size_t attribute(const nlohmann::json& primitive, const char* name) {
+  const auto attributes = primitive.find("attributes");
+  if (attributes == primitive.end() || !attributes->contains(name)) throwInvalid(std::string("GLB primitive has no ") + name);
+  return number(*attributes, name);
 }
 
 }  // namespace
 
 TriangleMesh readGlb(const std::vector<uint8_t>& bytes) {
-  tinygltf::Model model;
-  tinygltf::TinyGLTF loader;
-  std::string error, warning;
-  if (!loader.LoadBinaryFromMemory(&model, &error, &warning, bytes.data(), unsigned(bytes.size()))) {
-    throwInvalid("not a readable GLB: " + error);
+  const GlbFile file = parseGlb(bytes);
+  const nlohmann::json& mesh0 = element(file.json, "meshes", 0, "mesh");
+  const auto primitives = mesh0.find("primitives");
+  if (file.json["meshes"].size() != 1 || primitives == mesh0.end() || !primitives->is_array() || primitives->size() != 1) {
+    throwInvalid("expected one primitive");
   }
-  if (model.meshes.size() != 1 || model.meshes[0].primitives.size() != 1) throwInvalid("expected one primitive");
-  const auto& primitive = model.meshes[0].primitives[0];
+  const nlohmann::json& primitive = (*primitives)[0];
+  const AccessorReader positions(file, attribute(primitive, "POSITION"), "VEC3", "position");
+  const AccessorReader normals(file, attribute(primitive, "NORMAL"), "VEC3", "normal");
+  const AccessorReader indices(file, number(primitive, "indices"), "SCALAR", "index");
+  // Positions through the node's translation and scale, in float as a viewer computes them.
+  const std::array<float, 3> translation = nodeVector(file.json, "translation", 0), scale = nodeVector(file.json, "scale", 1);
   TriangleMesh mesh;
-  mesh.positions = readVec3s(model, attribute(primitive, "POSITION"), "position");
-  mesh.normals = readVec3s(model, attribute(primitive, "NORMAL"), "normal");
-  mesh.indices = readIndices(model, primitive.indices);
-  for (uint32_t index : mesh.indices) {
-    if (index >= mesh.positions.size()) throwInvalid("GLB index " + std::to_string(index) + " has no vertex");
+  mesh.positions.resize(positions.count());
+  for (size_t k = 0; k < positions.count(); ++k) {
+    float p[3];
+    for (int a = 0; a < 3; ++a) p[a] = translation[a] + scale[a] * positions.component(k, a);
+    mesh.positions[k] = Vec3(p[0], p[1], p[2]);
+  }
+  mesh.normals.resize(normals.count());
+  for (size_t k = 0; k < normals.count(); ++k) {
+    mesh.normals[k] = Vec3(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
+  }
+  mesh.indices.resize(indices.count());
+  for (size_t k = 0; k < indices.count(); ++k) {
+    mesh.indices[k] = indices.index(k);
+    if (mesh.indices[k] >= mesh.positions.size()) throwInvalid("GLB index " + std::to_string(mesh.indices[k]) + " has no vertex");
   }
   return mesh;
 }

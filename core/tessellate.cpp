@@ -38,8 +38,8 @@ TessellationResult tessellateToTolerance(const PatchSet& patches, const Tessella
     s.maxDepth = std::max(s.maxDepth, tile.level);
   }
   s.averageDepth = plan.tiles.empty() ? 0.0 : double(levels) / double(plan.tiles.size());
-  s.guaranteedBound = plan.guaranteedBound;
-  s.tolerance = plan.tiles.empty() ? 0.0 : plan.tolerance;
+  s.guaranteedBound = plan.guaranteedBound + options.encodingReserve;
+  s.tolerance = plan.tiles.empty() ? 0.0 : plan.tolerance + options.encodingReserve;
   return result;
 }
 
@@ -71,8 +71,8 @@ TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
   s.rings = plan.rings;
   s.averageDepth = plan.averageDepth;
   s.maxDepth = plan.maxDepth;
-  s.guaranteedBound = plan.guaranteedBound;
-  s.tolerance = plan.tolerance;
+  s.guaranteedBound = plan.guaranteedBound + options.encodingReserve;
+  s.tolerance = options.uniformLevel > 0 ? plan.tolerance : plan.tolerance + options.encodingReserve;
   result.plan = std::move(plan);
   return result;
 }

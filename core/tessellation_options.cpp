@@ -20,6 +20,9 @@ void validateUniformLevel(int p) {
 }
 
 void validateTessellationOptions(const TessellationOptions& o) {
+  if (!std::isfinite(o.encodingReserve) || o.encodingReserve < 0) {
+    throwInvalid("the encoding's reserve must be a finite number >= 0, got " + std::to_string(o.encodingReserve));
+  }
   if (o.uniformLevel != 0) {
     validateUniformLevel(o.uniformLevel);
     return;

@@ -26,6 +26,10 @@ struct TessellationOptions {
   double eta = 0.5;
   int uniformLevel = 0;           // > 0: the paper's Table 2 setup instead of a tolerance
   int64_t maxTriangles = 20'000'000;
+  // Model units of ε set aside for the output's encoding (quantized positions move each vertex by
+  // at most this much, core/glb_output.h): the surface is planned to ε minus it everywhere and
+  // the bound reported includes it.
+  double encodingReserve = 0;
   bool recordParameters = false;  // keep each triangle's piece coordinates (tests, tools)
   // Called every few hundred rings or pieces during long work; a caller that wants to stop
   // (a cancelled or expired request) throws from it, and the exception leaves tessellate().

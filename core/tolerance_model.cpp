@@ -7,7 +7,9 @@ namespace tessera {
 
 ToleranceModel::ToleranceModel(const TessellationOptions& options, const PatchSet& patches) {
   const double diagonal = length(Vec3d(patches.boundsMax) - Vec3d(patches.boundsMin));
-  epsilon_ = options.relativeTolerance ? options.tolerance * diagonal : options.tolerance;
+  // A uniform level meets no ε: the reserve only adds to its bound (tessellate.cpp).
+  reserve_ = options.uniformLevel > 0 ? 0.0 : options.encodingReserve;
+  epsilon_ = (options.relativeTolerance ? options.tolerance * diagonal : options.tolerance) - reserve_;
   if (!options.camera) return;
   const Camera& c = *options.camera;
   eye_ = c.eye;
@@ -22,7 +24,7 @@ ToleranceModel::ToleranceModel(const TessellationOptions& options, const PatchSe
 
 double ToleranceModel::atDepth(double nearest) const {
   const double k = pixelScale_;
-  return k * std::max(nearest, near_) / (1.0 + k);
+  return k * std::max(nearest, near_) / (1.0 + k) - reserve_;
 }
 
 double ToleranceModel::forPoints(const Vec3* points, int count) const {

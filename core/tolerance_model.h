@@ -2,7 +2,8 @@
 // accuracy"): ε itself (absolute, or a fraction of the control mesh's bounding-box diagonal), or
 // with a camera ε_obj = px · z / (f_px · √(1 + tan²(φx/2) + tan²(φy/2))) at the part's nearest
 // view depth z (over its control points, or a box holding its surface), z reduced by ε_obj
-// itself and clamped at a near plane at 1% of the eye–target distance.
+// itself and clamped at a near plane at 1% of the eye–target distance. Every value is less the
+// encoding's reserve (TessellationOptions::encodingReserve), which the output spends.
 #pragma once
 
 #include "core/patch_set.h"
@@ -27,7 +28,7 @@ class ToleranceModel {
   double depthOf(Vec3d point) const { return dot(point - eye_, forward_); }
   double atDepth(double nearest) const;
 
-  double epsilon_ = 0;
+  double epsilon_ = 0, reserve_ = 0;
   Vec3d eye_, forward_;
   double pixelScale_ = 0, near_ = 0;
 };

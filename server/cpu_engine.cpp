@@ -3,7 +3,7 @@
 #include <chrono>
 #include <string>
 
-#include "core/glb_writer.h"
+#include "core/glb_output.h"
 #include "core/memory_estimates.h"
 #include "core/tessellate.h"
 
@@ -55,13 +55,16 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
 
   progress("tessellating", 0.3);
   start = Clock::now();
-  TessellationResult result = tessellate(*patches, mesh, optionsFor(job, cancel));
+  TessellationOptions options = optionsFor(job, cancel);
+  const std::optional<PositionQuantization> positions = reserveForEncoding(job.encoding, *patches, options);
+  TessellationResult result = tessellate(*patches, mesh, options);
   output.summary.timings.push_back({"tessellate", seconds(start)});
   cancel.throwIfCancelled();
 
   progress("encoding", 0.9);
   start = Clock::now();
-  output.glb = writeGlb(result.mesh, job.meshId);
+  output.glb = writeGlb(result.mesh, glbOptionsFor({job.encoding, job.meshId, job.meshSha256}, options,
+                                                   result.summary, positions));
   output.summary.timings.push_back({"encode", seconds(start)});
   const tessera::TessellationSummary& s = result.summary;
   output.summary.triangles = s.triangles;

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "server/mesh_codec.h"
+#include "core/mesh_codec.h"
 #include "server/mesh_names.h"
 #include "server/status_error.h"
 

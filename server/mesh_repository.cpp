@@ -5,9 +5,9 @@
 
 #include <chrono>
 
-#include "server/mesh_codec.h"
+#include "core/mesh_codec.h"
 #include "server/mesh_names.h"
-#include "server/sha256.h"
+#include "core/sha256.h"
 #include "server/status_error.h"
 
 namespace tessera::server {

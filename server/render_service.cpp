@@ -14,7 +14,7 @@
 #include "server/mesh_names.h"
 #include "server/render_request.h"
 #include "server/render_session.h"
-#include "server/sha256.h"
+#include "core/sha256.h"
 #include "server/status_error.h"
 
 namespace tessera::server {

@@ -15,6 +15,8 @@
 #include <optional>
 #include <thread>
 
+#include "core/version.h"
+
 #include "server/mesh_service.h"
 #include "server/metrics_http_server.h"
 #include "server/render_backend.h"
@@ -28,10 +30,6 @@
 #include "server/patch_set_cache.h"
 #include "server/test_engines.h"
 #include "server/tls_key_pair.h"
-
-#ifndef TESSERA_VERSION
-#define TESSERA_VERSION "unknown"
-#endif
 
 namespace tessera::server {
 namespace {
@@ -66,7 +64,7 @@ std::unique_ptr<TessellationEngine> makeEngine(const ServerConfig& config, Patch
 v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngine& engine,
                               const RenderBackend& renderer, const std::string& storeKind) {
   v1::ServerInfo info;
-  info.set_version(TESSERA_VERSION);
+  info.set_version(kVersion);
   v1::Backend* backend = info.add_backends();
   backend->set_name(engine.name());
   backend->set_available(engine.available());
@@ -271,7 +269,7 @@ int runServer(const ServerConfig& config) {
   std::string address = boundAddress(config.listen, port);
   spdlog::info("tessera-server {} listening on {} (store {}, {} TLS, auth {}, reflection {}, "
                "metrics {})",
-               TESSERA_VERSION, address, store->kind(), config.tlsCert.empty() ? "no" : "with",
+               kVersion, address, store->kind(), config.tlsCert.empty() ? "no" : "with",
                auth.enabled() ? "on" : "off", reflection ? "on" : "off",
                metricsServer ? metricsServer->address() : "off");
   spdlog::info("memory budget {}: {} for jobs, {} for the caches", formatBytes(config.memoryBudget),

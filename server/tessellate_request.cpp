@@ -131,6 +131,10 @@ void checkTessellateRequest(const v1::TessellateRequest& request, const Tessella
                                        limits.maxUniformLevel, level));
     }
   }
+  if (!v1::GlbEncoding_IsValid(request.encoding())) {
+    throwInvalidArgument(fmt::format("encoding: unknown value {} (GLB_ENCODING_FLOAT, _QUANTIZED or _MESHOPT)",
+                                     int(request.encoding())));
+  }
   if (request.has_max_triangles()) {
     int64_t max = request.max_triangles();
     if (max < 0) throwInvalidArgument(fmt::format("max_triangles: must not be negative (got {})", max));
@@ -151,6 +155,9 @@ TessellationJob planTessellationJob(const v1::TessellateRequest& request,
   job.maxTriangles = request.has_max_triangles() && request.max_triangles() > 0
                          ? request.max_triangles()
                          : limits.maxTriangles;
+  job.encoding = request.encoding() == v1::GLB_ENCODING_QUANTIZED ? GlbEncoding::kQuantized
+                 : request.encoding() == v1::GLB_ENCODING_MESHOPT ? GlbEncoding::kMeshopt
+                                                                   : GlbEncoding::kFloat;
   const double diagonal = metadata.boundsDiagonal();
   if (request.tolerance_case() == v1::TessellateRequest::TOLERANCE_NOT_SET) {
     job.toleranceMode = ToleranceMode::kNone;

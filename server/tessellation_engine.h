@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/control_mesh.h"
+#include "core/glb_writer.h"
 #include "core/vec3.h"
 #include "server/cancellation.h"
 #include "server/memory_reservation.h"
@@ -55,6 +56,7 @@ struct TessellationJob {
   int uniformLevel = 0;
   // The engine refuses (TesseraError kLimitExceeded) to produce more triangles than this.
   int64_t maxTriangles = 0;
+  GlbEncoding encoding = GlbEncoding::kFloat;
   // Where the job reserves memory as it learns its size (preprocessing, output); null: nowhere.
   MemoryReservation* memory = nullptr;
   // Progress of the whole job in [0, 1] under a short stage name ("refining", "tessellating",

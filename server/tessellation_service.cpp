@@ -7,7 +7,7 @@
 #include "server/call_guard.h"
 #include "server/mesh_names.h"
 #include "server/memory_release.h"
-#include "server/sha256.h"
+#include "core/sha256.h"
 #include "server/status_error.h"
 
 namespace tessera::server {

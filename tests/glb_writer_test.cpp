@@ -50,7 +50,7 @@ TEST(GlbWriter, UsesSixteenBitIndicesUpTo65535Vertices) {
   // 65535 is the primitive-restart value of 16-bit indices, so the last index allowed is 65534.
   for (size_t vertices : {size_t(8), size_t(65534)}) {
     TriangleMesh mesh = strip(vertices);
-    std::vector<uint8_t> glb = writeGlb(mesh, "strip");
+    std::vector<uint8_t> glb = writeGlb(mesh, {.description = {.sourceName = "strip"}});
     EXPECT_NE(jsonChunk(glb).find("\"componentType\":5123"), std::string::npos) << vertices;
     expectSameMesh(readGlb(glb), mesh);
   }
@@ -58,7 +58,7 @@ TEST(GlbWriter, UsesSixteenBitIndicesUpTo65535Vertices) {
 
 TEST(GlbWriter, UsesThirtyTwoBitIndicesBeyond) {
   TriangleMesh mesh = strip(65536);
-  std::vector<uint8_t> glb = writeGlb(mesh, "strip");
+  std::vector<uint8_t> glb = writeGlb(mesh, {.description = {.sourceName = "strip"}});
   EXPECT_NE(jsonChunk(glb).find("\"componentType\":5125"), std::string::npos);
   expectSameMesh(readGlb(glb), mesh);
 }
@@ -67,7 +67,7 @@ TEST(GlbWriter, KhronosValidatorAcceptsBothIndexWidths) {
   // 65534 vertices: 16-bit indices whose byte length is not a multiple of 4 (padding checked).
   for (size_t vertices : {size_t(10), size_t(65534), size_t(70000)}) {
     testing::ValidatorReport validation =
-        testing::validateGlb(writeGlb(strip(vertices), "strip"), "strip-" + std::to_string(vertices));
+        testing::validateGlb(writeGlb(strip(vertices), {.description = {.sourceName = "strip"}}), "strip-" + std::to_string(vertices));
     ASSERT_TRUE(validation.ran) << "glTF-Validator did not run (npm install in tests/gltf?): "
                                 << validation.report;
     EXPECT_TRUE(validation.clean()) << vertices << " vertices: " << validation.report;
@@ -84,12 +84,12 @@ void expectRefused(const std::vector<uint8_t>& glb, const std::string& message) 
 }
 
 TEST(GlbWriter, ReadGlbRefusesWhatItCannotTrust) {
-  std::vector<uint8_t> glb = writeGlb(strip(8), "strip");
+  std::vector<uint8_t> glb = writeGlb(strip(8), {.description = {.sourceName = "strip"}});
   expectRefused({}, "not a readable GLB");
   expectRefused(std::vector<uint8_t>(glb.begin(), glb.begin() + glb.size() / 2), "not a readable GLB");
   TriangleMesh dangling = strip(8);
   dangling.indices.back() = 8;  // one past the last vertex
-  expectRefused(writeGlb(dangling, "strip"), "GLB index 8 has no vertex");
+  expectRefused(writeGlb(dangling, {.description = {.sourceName = "strip"}}), "GLB index 8 has no vertex");
 }
 
 }  // namespace

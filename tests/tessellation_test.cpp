@@ -291,7 +291,7 @@ TEST(Tessellation, WritesGlbThatKhronosValidatorAccepts) {
     ControlMesh mesh = readObjFile(testing::modelsDir() + "/" + name + ".obj");
     PatchSet set = buildPatchSet(mesh);
     TessellationResult result = tessellateAt(mesh, set, 1e-3);
-    std::vector<uint8_t> glb = writeGlb(result.mesh, name);
+    std::vector<uint8_t> glb = writeGlb(result.mesh, {.description = {.sourceName = name}});
     TriangleMesh back = readGlb(glb);
     ASSERT_EQ(back.positions.size(), result.mesh.positions.size());
     ASSERT_EQ(back.indices, result.mesh.indices);

@@ -8,11 +8,13 @@ packages=(
   # toolchain
   build-essential cmake ninja-build pkg-config clang-14 libclang-rt-14-dev clang-format
   # geometry core
-  libosd-dev libtinygltf-dev nlohmann-json3-dev libtbb-dev
+  libosd-dev nlohmann-json3-dev libtbb-dev
   # measured distances to the limit surface (tests/support, tools/oracle_rates)
   libnanoflann-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
+  # GLB compression (EXT_meshopt_compression)
+  libmeshoptimizer-dev
   # command line and logs
   libcli11-dev libspdlog-dev libfmt-dev
   # service

@@ -2,7 +2,7 @@
 // (the paper's test set in TESSERA_MODELS_DIR), a mesh uploaded over gRPC and tessellated by the
 // real server streams a GLB that, reassembled and checked against its SHA-256, is byte-identical
 // to what `tessera tessellate MODEL.obj` writes in-process, with the same triangle count; so do a
-// pixel-accurate (camera) request and a uniform-level one. A cancelled tessellation stops the
+// pixel-accurate (camera) request, a uniform-level one and a meshopt-compressed one. A cancelled tessellation stops the
 // server computing. Runs on SQLite and, when TESSERA_TEST_POSTGRES_URL is set, on PostgreSQL.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -196,6 +196,15 @@ TEST_P(TessellationEndToEnd, AUniformLevelRequestMatchesTheCli) {
   v1::TessellateRequest request;
   request.set_uniform_level(3);
   expectSameAsCli("car", request, "--level 3");
+}
+
+TEST_P(TessellationEndToEnd, AMeshoptRequestMatchesTheCli) {
+  start();
+  upload("bigguy");
+  v1::TessellateRequest request;
+  request.set_relative(kRelativeTolerance);
+  request.set_encoding(v1::GLB_ENCODING_MESHOPT);
+  expectSameAsCli("bigguy", request, fmt::format("--tolerance {:g} --relative --encoding meshopt", kRelativeTolerance));
 }
 
 // The job: armorguy at the finest tolerance that fits the default triangle budget, so that

@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
     for (int run = 0; run < arguments.warmup + arguments.runs; ++run) {
       auto start = std::chrono::steady_clock::now();
       tessera::TessellationResult result = tessera::tessellate(patches, mesh, options);
-      std::vector<uint8_t> glb = tessera::writeGlb(result.mesh, arguments.name);
+      std::vector<uint8_t> glb = tessera::writeGlb(result.mesh, {.description = {.sourceName = arguments.name}});
       if (run >= arguments.warmup) {
         milliseconds.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)

@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
       int64_t triangles = 0;
       {
         const TessellationResult result = tessellate(patches, mesh, tessellation);
-        const std::vector<uint8_t> glb = writeGlb(result.mesh, name);
+        const std::vector<uint8_t> glb = writeGlb(result.mesh, {.description = {.sourceName = name}});
         triangles = result.summary.triangles;
       }
       peak = statusBytes("VmHWM:") - rest;

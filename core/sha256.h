@@ -4,8 +4,8 @@
 #include <string>
 #include <string_view>
 
-namespace tessera::server {
+namespace tessera {
 
 std::string sha256Hex(std::string_view bytes);
 
-}  // namespace tessera::server
+}  // namespace tessera

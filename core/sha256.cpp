@@ -1,11 +1,11 @@
-#include "server/sha256.h"
+#include "core/sha256.h"
 
 #include <openssl/evp.h>
 
 #include <array>
 #include <stdexcept>
 
-namespace tessera::server {
+namespace tessera {
 
 std::string sha256Hex(std::string_view bytes) {
   std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
@@ -23,4 +23,4 @@ std::string sha256Hex(std::string_view bytes) {
   return hex;
 }
 
-}  // namespace tessera::server
+}  // namespace tessera

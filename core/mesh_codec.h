@@ -9,7 +9,7 @@
 
 #include "core/control_mesh.h"
 
-namespace tessera::server {
+namespace tessera {
 
 // Thrown when stored bytes are not a valid encoding (corruption, or a foreign row).
 class MeshDecodeError : public std::runtime_error {
@@ -29,4 +29,4 @@ ControlMesh decodeCanonicalMesh(std::string_view bytes);
 // Approximate heap footprint of a decoded mesh, for cache budgets.
 size_t meshHeapBytes(const ControlMesh& mesh);
 
-}  // namespace tessera::server
+}  // namespace tessera

@@ -1,9 +1,9 @@
-#include "server/mesh_codec.h"
+#include "core/mesh_codec.h"
 
 #include <bit>
 #include <cstdint>
 
-namespace tessera::server {
+namespace tessera {
 namespace {
 
 constexpr std::string_view kMagic = "TSM1";
@@ -146,4 +146,4 @@ size_t meshHeapBytes(const ControlMesh& mesh) {
          mesh.corners.capacity() * sizeof(CornerVertex) + mesh.holes.capacity() * sizeof(int);
 }
 
-}  // namespace tessera::server
+}  // namespace tessera
