@@ -141,16 +141,18 @@ Stored storePlain(const TriangleMesh& mesh) {
 
 Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   const size_t vertexCount = mesh.positions.size();
-  std::vector<uint32_t> indices = mesh.indices;
+  const bool compress = options.encoding == GlbEncoding::kMeshopt;
+  std::vector<uint32_t> reordered;  // meshopt: the triangles in cache order, vertices renumbered
+  const std::vector<uint32_t>& indices = compress ? reordered : mesh.indices;
   std::vector<uint32_t> order(vertexCount);  // stored vertex k is mesh vertex order[k]
   std::iota(order.begin(), order.end(), 0u);
   size_t stored = vertexCount;
-  const bool compress = options.encoding == GlbEncoding::kMeshopt;
-  if (compress && !indices.empty()) {
-    meshopt_optimizeVertexCache(indices.data(), mesh.indices.data(), indices.size(), vertexCount);
+  if (compress && !mesh.indices.empty()) {
+    reordered.resize(mesh.indices.size());
+    meshopt_optimizeVertexCache(reordered.data(), mesh.indices.data(), reordered.size(), vertexCount);
     std::vector<uint32_t> remap(vertexCount);
-    stored = meshopt_optimizeVertexFetchRemap(remap.data(), indices.data(), indices.size(), vertexCount);
-    meshopt_remapIndexBuffer(indices.data(), indices.data(), indices.size(), remap.data());
+    stored = meshopt_optimizeVertexFetchRemap(remap.data(), reordered.data(), reordered.size(), vertexCount);
+    meshopt_remapIndexBuffer(reordered.data(), reordered.data(), reordered.size(), remap.data());
     order.assign(stored, 0);
     for (uint32_t v = 0; v < vertexCount; ++v) {
       if (remap[v] != ~0u) order[remap[v]] = v;
@@ -178,7 +180,7 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   }
   result.views.push_back(ownedViewOf(normals));
   View index = indexView(indices, stored);
-  if (index.owned.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // `indices` is local
+  if (compress && index.owned.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
   result.views.push_back(std::move(index));
   if (compress) {
     useSpecifiedCodecVersions();
@@ -230,8 +232,8 @@ std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binB
   size_t binOffset = 0, fallbackOffset = 0;
   for (const View& view : stored.views) {
     nlohmann::json json = {{"buffer", compressed ? 1 : 0}, {"byteLength", view.size}, {"target", view.target}};
-    // Vertex attributes padded past their element (quantized ones) name their stride.
-    if (view.target == kArrayBuffer && view.stride % 4 == 0 && view.stride != 12) json["byteStride"] = view.stride;
+    // Vertex attributes name their stride (quantized ones are padded past their element).
+    if (view.target == kArrayBuffer) json["byteStride"] = view.stride;
     if (compressed) {
       json["byteOffset"] = fallbackOffset;
       fallbackOffset += padded(view.size);
