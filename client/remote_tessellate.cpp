@@ -11,6 +11,8 @@
 
 #include "client/commands.h"
 #include "client/remote_progress.h"
+#include "core/error.h"
+#include "core/glb_writer.h"
 #include "tessera/v1/tessellation.grpc.pb.h"
 
 namespace tessera::cli {
@@ -60,6 +62,22 @@ void setPixelTolerance(const RemoteTessellateArgs& a, v1::TessellateRequest& req
   if (a.pixelAccuracy) pixel->set_pixel_accuracy(*a.pixelAccuracy);
 }
 
+// The request's encoding for a name core knows (core/glb_writer.h).
+v1::GlbEncoding protoEncoding(const std::string& name) {
+  GlbEncoding encoding;
+  try {
+    encoding = parseGlbEncoding(name);
+  } catch (const TesseraError& e) {
+    throw UsageError(std::string("--encoding: ") + e.what());
+  }
+  switch (encoding) {
+    case GlbEncoding::kQuantized: return v1::GLB_ENCODING_QUANTIZED;
+    case GlbEncoding::kMeshopt: return v1::GLB_ENCODING_MESHOPT;
+    case GlbEncoding::kFloat: break;
+  }
+  return v1::GLB_ENCODING_FLOAT;
+}
+
 v1::TessellateRequest buildRequest(const RemoteTessellateArgs& a) {
   v1::TessellateRequest request;
   request.set_name(a.meshName);
@@ -78,13 +96,7 @@ v1::TessellateRequest buildRequest(const RemoteTessellateArgs& a) {
   if (a.eta) request.set_eta(*a.eta);
   if (a.level) request.set_uniform_level(*a.level);
   if (a.maxTriangles) request.set_max_triangles(*a.maxTriangles);
-  if (a.encoding == "quantized") {
-    request.set_encoding(v1::GLB_ENCODING_QUANTIZED);
-  } else if (a.encoding == "meshopt") {
-    request.set_encoding(v1::GLB_ENCODING_MESHOPT);
-  } else if (!a.encoding.empty() && a.encoding != "float") {
-    throw UsageError("--encoding must be float, quantized or meshopt, got \"" + a.encoding + "\"");
-  }
+  if (!a.encoding.empty()) request.set_encoding(protoEncoding(a.encoding));
   if (a.output.empty()) throw UsageError("-o OUT.glb is required");
   return request;
 }

@@ -208,7 +208,7 @@ nlohmann::json extrasOf(const GlbOptions& options) {
 // one mesh whose primitive reads positions, normals and indices from three views.
 std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
   const std::string& name = options.description.sourceName;
-  const bool compressed = !stored.views[0].compressed.empty();
+  const bool compressed = options.encoding == GlbEncoding::kMeshopt;
   nlohmann::json node = {{"mesh", 0}, {"name", name}};
   if (options.positions) {
     const PositionQuantization& q = *options.positions;
