@@ -14,12 +14,11 @@ namespace tessera {
 // without a net (a node standing for its leaves) the cheap bounds are the bounds.
 void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, double x, double y, double s,
                           const DiagonalMap& map, double& pair, std::array<double, 4>& bows) {
-  constexpr int G = DiagonalMap::kCells;
   const double cx[4] = {x, x + s, x + s, x}, cy[4] = {y, y, y + s, y + s};
   Vec3d leafB[4];
   for (int k = 0; k < 4; ++k) leafB[k] = own.bilinear(cx[k], cy[k]);
-  const bool spans = s * G > 1;
-  const int i = int(x * G), j = int(y * G);
+  const bool spans = map.spans(x, y, s);
+  const int i = map.column(x), j = map.row(y);
   const int met = spans ? 0 : map.trianglesMet(i, j, x, y, s);
   // The cheap bounds, each triangle's affine function extended over the whole square.
   bool open = spans;
@@ -46,7 +45,7 @@ void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, doub
     chordEnds[side][1] = map.pairOnBoundary(cx[to], cy[to]);
     cheapBow[side] = own.bows[side] + std::max(length(chordEnds[side][0] - leafB[from]), length(chordEnds[side][1] - leafB[to]));
   }
-  if (spans || (met == 3 && open && s * G > 0.125)) {
+  if (spans || (met == 3 && open && map.relativeSize(i, j, s) > 0.125)) {
     for (int q = 0; q < 4; ++q) {
       const LazyNet quadrant{net, q, false, {}};
       pieceAgainstDiagonal(net ? &quadrant : nullptr, r, own, x + (q & 1) * s / 2, y + (q >> 1) * s / 2, s / 2, map, pair, bows);
@@ -60,9 +59,16 @@ void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, doub
   }
   for (int h = 0; h < 2; ++h) {
     if (!(met >> h & 1) || cheap[h] <= pair) continue;
-    // pair ∘ ρ is affine here: its bilinear net is itself.
-    const double exact = net ? r + splitNetDistance(net->get(), bilinearNet(target[h])) : INFINITY;
-    pair = std::max(pair, std::min(cheap[h], exact));
+    // pair ∘ ρ is affine here: its bilinear net is itself. The hull of the difference first; split
+    // by de Casteljau (tighter, dearer) only where the hull would raise the maximum.
+    if (!net) {
+      pair = std::max(pair, cheap[h]);
+      continue;
+    }
+    const BezierNet affine = bilinearNet(target[h]);
+    const double hull = r + netDistance(net->get(), affine);
+    if (hull <= pair) continue;
+    pair = std::max(pair, std::min({cheap[h], hull, r + splitNetDistance(net->get(), affine)}));
   }
 }
 

@@ -37,9 +37,17 @@ bool projectOntoHalf(const Vec3d& p, const Vec3d corners[4], int diagonal, int h
 
 }  // namespace
 
-DiagonalMap::DiagonalMap(int diagonal, const Vec3d corners[4], const Vec3d* grid) : diagonal_(diagonal) {
+DiagonalMap::GridLines DiagonalMap::evenLines() {
+  GridLines lines;
+  for (int i = 0; i <= G; ++i) lines[i] = double(i) / G;
+  return lines;
+}
+
+DiagonalMap::DiagonalMap(int diagonal, const Vec3d corners[4], const Vec3d* grid, const GridLines& xs,
+                         const GridLines& ys)
+    : diagonal_(diagonal), xs_(xs), ys_(ys) {
   std::copy(corners, corners + 4, corners_.begin());
-  // Where each grid point projects (the identity where it cannot move).
+  // Where each grid point projects (its even position where it cannot move).
   std::array<double, kPoints * kPoints> pu, pv;
   for (int j = 0; j <= G; ++j) {
     for (int i = 0; i <= G; ++i) {
@@ -63,6 +71,8 @@ DiagonalMap::DiagonalMap(int diagonal, const Vec3d corners[4], const Vec3d* grid
   }
   // The projections drawn back toward the identity until no grid triangle folds (τ = 0 always
   // keeps them all).
+  // The even map sends the grid's diagonal onto the pair's and keeps every side: a bijection of
+  // each half (monotone in each parameter), so the blend below ends at one.
   for (double tau = 1; tau > 0.1; tau /= 2) {
     for (int j = 0; j <= G; ++j) {
       for (int i = 0; i <= G; ++i) {
@@ -96,7 +106,7 @@ void DiagonalMap::measureGridGap(const Vec3d* grid) {
 // themselves, ρ is then a bijection of each half onto the pair's half (a map of a disk, locally
 // injective and one-to-one on the boundary).
 bool DiagonalMap::keepsOrientation() const {
-  constexpr double kMinArea = 1e-9 / (G * G);
+  constexpr double kMinArea = 1e-9 / (G * G);  // ρ's values are in the pair's square, ~1/G apart
   auto turn = [this](int a, int b, int c) {
     return (u_[b] - u_[a]) * (v_[c] - v_[a]) - (v_[b] - v_[a]) * (u_[c] - u_[a]);
   };
@@ -118,13 +128,31 @@ bool DiagonalMap::keepsOrientation() const {
   return true;
 }
 
+int DiagonalMap::cellOf(const GridLines& lines, double x) {
+  int i = 0;
+  while (i + 1 < G && x >= lines[i + 1]) ++i;
+  return i;
+}
+
+bool DiagonalMap::spans(double x, double y, double s) const {
+  const int i = column(x), j = row(y);
+  return x + s > xs_[i + 1] || y + s > ys_[j + 1];
+}
+
 bool DiagonalMap::split(int i, int j) const { return diagonal_ == 0 ? i == j : i + j + 1 == G; }
+
+// (x, y) in cell (i, j)'s own unit square.
+void DiagonalMap::local(int i, int j, double x, double y, double& a, double& b) const {
+  a = (x - xs_[i]) / (xs_[i + 1] - xs_[i]), b = (y - ys_[j]) / (ys_[j + 1] - ys_[j]);
+}
 
 int DiagonalMap::trianglesMet(int i, int j, double x, double y, double s) const {
   if (!split(i, j)) return 1;
-  const double a = x * G - i, b = y * G - j, t = s * G;
-  if (diagonal_ == 0) return (a + t > b ? 1 : 0) | (b + t > a ? 2 : 0);
-  return (a + b < 1 ? 1 : 0) | (a + b + 2 * t > 1 ? 2 : 0);
+  double a, b;
+  local(i, j, x, y, a, b);
+  const double ta = s / (xs_[i + 1] - xs_[i]), tb = s / (ys_[j + 1] - ys_[j]);
+  if (diagonal_ == 0) return (a + ta > b ? 1 : 0) | (b + tb > a ? 2 : 0);
+  return (a + b < 1 ? 1 : 0) | (a + ta + b + tb > 1 ? 2 : 0);
 }
 
 // The pair's half that half h of cell (i, j) maps into: the cells off the diagonal lie wholly in
@@ -138,7 +166,8 @@ void DiagonalMap::imageOf(int i, int j, int h, double x, double y, double& u, do
   const int n = i + kPoints * j;
   const double cu[4] = {u_[n], u_[n + 1], u_[n + 1 + kPoints], u_[n + kPoints]};
   const double cv[4] = {v_[n], v_[n + 1], v_[n + 1 + kPoints], v_[n + kPoints]};
-  const double a = x * G - i, b = y * G - j;
+  double a, b;
+  local(i, j, x, y, a, b);
   if (!split(i, j)) {
     u = bilinearAt(cu, a, b), v = bilinearAt(cv, a, b);
     return;
@@ -153,9 +182,10 @@ Vec3d DiagonalMap::pairOverTriangle(int i, int j, int h, double x, double y) con
 }
 
 Vec3d DiagonalMap::pairOnBoundary(double x, double y) const {
-  const int i = std::min(G - 1, int(x * G)), j = std::min(G - 1, int(y * G));
-  double u, v;
-  imageOf(i, j, pairHalf(diagonal_, x * G - i, y * G - j), x, y, u, v);
+  const int i = column(x), j = row(y);
+  double a, b, u, v;
+  local(i, j, x, y, a, b);
+  imageOf(i, j, pairHalf(diagonal_, a, b), x, y, u, v);
   return pairAt(corners_.data(), diagonal_, pairHalf(diagonal_, u, v), u, v);
 }
 

@@ -1,9 +1,12 @@
 // A reparameterization of a node's square for the twist-free pair bound (docs/ADAPTIVE.md §3b):
 // the two triangles through the node's corners, split along one diagonal, compared with
 // f ∘ φ where φ⁻¹ = ρ is piecewise bilinear on a kCells × kCells grid that keeps every side and
-// that diagonal in place; the cells the diagonal crosses are split along it into two linear
-// triangles. Each cell (or triangle) then maps into one triangle of the pair, so the pair composed
-// with ρ is bilinear (or affine) over it: a piece's net against it is a convex-hull bound.
+// that diagonal in place; the cells on the grid's own diagonal are split along it into two linear
+// triangles, and ρ sends that staircase of grid points onto the pair's diagonal. Each cell (or
+// triangle) then maps into one triangle of the pair, so the pair composed with ρ is bilinear (or
+// affine) over it: a piece's net against it is a convex-hull bound. The grid's lines need not be
+// evenly spaced (GridLines): graded toward where the parameterization crowds, a few cells follow
+// what an even grid would need many for (docs/ADAPTIVE.md §3c).
 #pragma once
 
 #include <array>
@@ -28,16 +31,32 @@ class DiagonalMap {
  public:
   static constexpr int kCells = 4;
   static constexpr int kPoints = kCells + 1;
+  // Grid lines along one axis: 0 = x_0 < x_1 < … < x_kCells = 1, each a multiple of 1/kFinest so
+  // that a piece halved log2(kFinest) times lies in one cell.
+  static constexpr int kFinest = 64;
+  using GridLines = std::array<double, kPoints>;
+  static GridLines evenLines();
 
   // ρ for the pair over `corners` (f at the square's corners) along `diagonal`, from f at the grid
-  // points (i, j) / kCells, index i + kPoints j: each point goes where it projects onto the pair
-  // (side points onto their chord, diagonal points onto the diagonal), drawn back toward the
-  // identity until every grid triangle keeps its orientation.
-  DiagonalMap(int diagonal, const Vec3d corners[4], const Vec3d* grid);
+  // points (xs[i], ys[j]), index i + kPoints j: each point goes where it projects onto the pair
+  // (side points onto their chord, the grid's diagonal onto the pair's), drawn back toward the
+  // even map (grid point (i, j) to (i, j) / kCells) until every grid triangle keeps its orientation.
+  DiagonalMap(int diagonal, const Vec3d corners[4], const Vec3d* grid, const GridLines& xs = evenLines(),
+              const GridLines& ys = evenLines());
 
   int diagonal() const { return diagonal_; }
   // max ‖f − pair ∘ ρ‖ over the grid points: a lower bound of the sup the map is for.
   double gridGap() const { return gridGap_; }
+
+  // The cell holding [x, x + s] along u (column) and along v (row); whether the square crosses a
+  // grid line.
+  int column(double x) const { return cellOf(xs_, x); }
+  int row(double y) const { return cellOf(ys_, y); }
+  bool spans(double x, double y, double s) const;
+  // The square's side over the cell's smaller side.
+  double relativeSize(int i, int j, double s) const {
+    return s / std::min(xs_[i + 1] - xs_[i], ys_[j + 1] - ys_[j]);
+  }
 
   // Which triangles of cell (i, j) the square [x, x + s] × [y, y + s] (node units, inside the
   // cell) meets with positive area: bit h for the cell's half h (its own diagonal parallel to
@@ -52,7 +71,9 @@ class DiagonalMap {
   Vec3d pairOnBoundary(double x, double y) const;
 
  private:
+  static int cellOf(const GridLines& lines, double x);
   bool split(int i, int j) const;
+  void local(int i, int j, double x, double y, double& a, double& b) const;
   int imageHalf(int i, int j, int h) const;
   void imageOf(int i, int j, int h, double x, double y, double& u, double& v) const;
   bool keepsOrientation() const;
@@ -61,6 +82,7 @@ class DiagonalMap {
   int diagonal_;
   double gridGap_ = 0;
   std::array<Vec3d, 4> corners_;
+  GridLines xs_, ys_;
   std::array<double, kPoints * kPoints> u_, v_;  // ρ at the grid points
 };
 

@@ -9,6 +9,7 @@
 #include "core/depth_bound.h"
 #include "core/error.h"
 #include "core/fas.h"
+#include "core/graded_pair_bound.h"
 #include "core/innermost_patch.h"
 #include "core/ring_patches.h"
 #include "core/ring_refinement.h"
@@ -314,6 +315,21 @@ void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) c
   }
 }
 
+// An exact piece's pair through a graded diagonal map (§3c), kept where it is smaller than §3's at
+// equal parameters. Only where that could matter: the equal-parameter bound is well above the
+// lower bound every pair bound has, and above the finest tolerance the tree serves.
+void TreeBuilder::tightenLeafPair(SurfaceNode& node, const BezierNet& net) const {
+  if (!(node.pairBound > kGradedFloor * floor_) || !(node.pairBound > kGradedSlack * pairLowerBound(net))) return;
+  // Worth its cost only where it can take off a fifth at least.
+  const std::optional<PairBounds> graded = gradedPairBounds(net, 0.8 * node.pairBound);
+  if (!graded) return;
+  const double pair = graded->pair * (1 + 1e-9);
+  if (!(pair < node.pairBound)) return;
+  node.pairBound = roundUp(pair);
+  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(graded->bows[side] * (1 + 1e-9));
+  node.pairDiagonal = graded->diagonal;
+}
+
 // Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and
 // the fit of their children; the deepest keeps the former (and its net, for evaluation).
 NodeFit TreeBuilder::summarize(uint32_t index, int level) {
@@ -322,6 +338,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
     NodeFit fit = summarizeLeaf(self, level);
     for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
     setStandIn(tree_.nodes[index], fit, level);
+    tightenLeafPair(tree_.nodes[index], fit.g);
     return fit;
   }
   const ChainStep* step = chainOf_[index] >= 0 ? &chainSteps_[chainOf_[index]] : nullptr;
