@@ -31,9 +31,8 @@ class DiagonalMap {
  public:
   static constexpr int kCells = 4;
   static constexpr int kPoints = kCells + 1;
-  // Grid lines along one axis: 0 = x_0 < x_1 < … < x_kCells = 1, each a multiple of 1/kFinest so
-  // that a piece halved log2(kFinest) times lies in one cell.
-  static constexpr int kFinest = 64;
+  // Grid lines along one axis: 0 = x_0 < x_1 < … < x_kCells = 1, each a dyadic fraction, so that
+  // a piece halved often enough lies in one cell.
   using GridLines = std::array<double, kPoints>;
   static GridLines evenLines();
 

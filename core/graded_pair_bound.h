@@ -1,7 +1,8 @@
 // The pair bound of one exact bicubic piece through a graded diagonal map (docs/ADAPTIVE.md §3c):
 // §3b's twist-free bound for the two triangles through the piece's corners, with the map's grid
-// lines placed where the surface's projection onto the pair crosses 1/4, 1/2, 3/4, so that a few
-// cells follow a parameterization that crowds toward one side (pieces beside semi-sharp creases).
+// lines placed so that its staircase follows where the surface comes nearest the pair's diagonal,
+// so that a few cells follow a twisted parameterization that crowds toward one side (pieces beside
+// semi-sharp creases).
 #pragma once
 
 #include <array>
