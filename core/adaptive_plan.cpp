@@ -74,11 +74,8 @@ void exactPairBounds(const BezierNet& net, double& pair, double bows[4]) {
   Vec3d corners[4];
   for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
   const Vec3d twist = corners[0] - corners[1] + corners[2] - corners[3];
-  for (int side = 0; side < 4; ++side) {
-    int from, to;
-    sideCorners(side, from, to);
-    bows[side] = sideChordDistance(net, side, corners[from], corners[to]) * (1 + 1e-9);
-  }
+  const std::array<double, 4> chord = chordBows(net, corners);
+  for (int side = 0; side < 4; ++side) bows[side] = chord[side] * (1 + 1e-9);
   pair = (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4) * (1 + 1e-9);
 }
 

@@ -162,6 +162,16 @@ inline void sideCorners(int side, int& from, int& to) {
   static constexpr int kFrom[4] = {0, 1, 3, 0}, kTo[4] = {1, 2, 2, 3};
   from = kFrom[side], to = kTo[side];
 }
+// sideChordDistance for every side, each chord between two of the given corner values.
+inline std::array<double, 4> chordBows(const BezierNet& net, const Vec3d corners[4]) {
+  std::array<double, 4> bows;
+  for (int side = 0; side < 4; ++side) {
+    int from, to;
+    sideCorners(side, from, to);
+    bows[side] = sideChordDistance(net, side, corners[from], corners[to]);
+  }
+  return bows;
+}
 
 // The least-squares bicubic g over a square whose quadrant nets best match `quadrants` (in
 // quadrant order qv * 2 + qu): minimises Σ_k ‖C_k − S_k g‖² over control points, S_k the

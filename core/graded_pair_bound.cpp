@@ -33,8 +33,10 @@ bool foldLines(const Samples& f, const Vec3d corners[4], int d, DiagonalMap::Gri
   for (int i = 1; i < G; ++i) {
     const Vec3d target = from + (to - from) * (d == 0 ? double(i) / G : 1 - double(i) / G);
     int best = 0;
+    double nearest = length(f[0] - target);
     for (int k = 1; k < int(f.size()); ++k) {
-      if (length(f[k] - target) < length(f[best] - target)) best = k;
+      const double distance = length(f[k] - target);
+      if (distance < nearest) best = k, nearest = distance;
     }
     const int m = best % (kSamples + 1), n = best / (kSamples + 1);
     const bool increasing = m > lastM && (d == 0 ? n > lastN : n < lastN);
@@ -95,11 +97,8 @@ std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below) {
   // The gap at the grid points is a lower bound of the result: no use bounding the rest.
   if (!(map.gridGap() < below)) return std::nullopt;
   LeafOwn own{{corners[0], corners[1], corners[2], corners[3]}, 0, 0, 1, splitNetDistance(net, bilinearNet(corners)), {}};
-  for (int side = 0; side < 4; ++side) {
-    int from, to;
-    sideCorners(side, from, to);
-    own.bows[side] = sideChordDistance(net, side, corners[from], corners[to]);
-  }
+  const std::array<double, 4> bows = chordBows(net, corners);
+  std::copy(bows.begin(), bows.end(), own.bows);
   PairBounds out;
   out.pair = map.gridGap();  // starts the maximum, so cheap bounds skip more
   const LazyNet whole{nullptr, 0, true, net};

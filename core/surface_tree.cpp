@@ -307,12 +307,8 @@ void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) c
   setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
   const Vec3d twist = fit.corners[0] - fit.corners[1] + fit.corners[2] - fit.corners[3];
   node.pairBound = roundUp((fit.r + splitNetDistance(fit.g, bilinearNet(fit.corners)) + length(twist) / 4) * (1 + 1e-9));
-  for (int side = 0; side < 4; ++side) {
-    int from, to;
-    sideCorners(side, from, to);
-    node.sideBow[side] =
-        roundUp((fit.r + sideChordDistance(fit.g, side, fit.corners[from], fit.corners[to])) * (1 + 1e-9));
-  }
+  const std::array<double, 4> bows = chordBows(fit.g, fit.corners);
+  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp((fit.r + bows[side]) * (1 + 1e-9));
 }
 
 // An exact piece's pair through a graded diagonal map (§3c), kept where it is smaller than §3's at

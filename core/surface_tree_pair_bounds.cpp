@@ -26,11 +26,8 @@ void TreeBuilder::leafAgainstAncestors(uint32_t index, const BezierNet& net, dou
   for (int k = 0; k < 4; ++k) own[k] = net[kCornerIndex[k]];
   const double ownPair = r + splitNetDistance(net, bilinearNet(own));
   double ownBow[4];
-  for (int side = 0; side < 4; ++side) {
-    int from, to;
-    sideCorners(side, from, to);
-    ownBow[side] = r + sideChordDistance(net, side, own[from], own[to]);
-  }
+  const std::array<double, 4> chord = chordBows(net, own);
+  for (int side = 0; side < 4; ++side) ownBow[side] = r + chord[side];
   // The leaf's own bounds, for the ancestor it stands for in the diagonal bound.
   pair_[index] = ownPair;
   std::copy(ownBow, ownBow + 4, bow_[index].begin());
