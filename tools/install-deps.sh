@@ -21,6 +21,8 @@ packages=(
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   libsqlite3-dev libpq-dev postgresql
   libssl-dev
+  # the Python client (client/python) and its tests, on Debian's python3
+  python3-grpcio python3-protobuf python3-numpy python3-venv python3-pip python3-setuptools python3-wheel
   # rendering
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers spirv-tools glslc
   libopenimageio-dev

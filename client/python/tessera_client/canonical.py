@@ -1,0 +1,35 @@
+"""The server's canonical mesh encoding (proto/tessera/v1/mesh.proto, Mesh.sha256), so that an
+arrays upload can be checked against the checksum the server stored."""
+import hashlib
+import struct
+from array import array
+from typing import Iterable, Sequence, Tuple
+
+BOUNDARY_EDGE_ONLY = 1  # BOUNDARY_INTERPOLATION_EDGE_ONLY: what an ARRAYS upload gets unspecified
+
+
+def _little_endian(values: array) -> bytes:
+    if struct.pack("=I", 1) != struct.pack("<I", 1):
+        values = array(values.typecode, values)
+        values.byteswap()
+    return values.tobytes()
+
+
+def canonical_sha256(positions: Sequence[float], face_sizes: Sequence[int], face_vertices: Sequence[int],
+                     creases: Iterable[Tuple[int, int, float]] = (), corners: Iterable[Tuple[int, float]] = (),
+                     holes: Sequence[int] = (), boundary: int = BOUNDARY_EDGE_ONLY) -> str:
+    """Lower-case hex SHA-256 of the canonical encoding of these arrays."""
+    creases, corners = list(creases), list(corners)
+    digest = hashlib.sha256()
+    digest.update(b"TSM1" + struct.pack("<I", boundary))
+    digest.update(struct.pack("<Q", len(positions) // 3) + _little_endian(array("f", positions)))
+    digest.update(struct.pack("<Q", len(face_sizes)) + _little_endian(array("i", face_sizes)))
+    digest.update(struct.pack("<Q", len(face_vertices)) + _little_endian(array("i", face_vertices)))
+    digest.update(struct.pack("<Q", len(creases)))
+    for v0, v1, sharpness in creases:
+        digest.update(struct.pack("<iif", v0, v1, sharpness))
+    digest.update(struct.pack("<Q", len(corners)))
+    for vertex, sharpness in corners:
+        digest.update(struct.pack("<if", vertex, sharpness))
+    digest.update(struct.pack("<Q", len(holes)) + _little_endian(array("i", holes)))
+    return digest.hexdigest()
