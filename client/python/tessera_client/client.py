@@ -94,7 +94,6 @@ class Frame:
 class _Attempts:
     """The deadline of a whole call and the retries it took."""
     timeout: Optional[float]
-    max_retries: int
     start: float = field(default_factory=time.monotonic)
     retries: int = 0
 
@@ -160,7 +159,7 @@ class TesseraClient:
 
     # The retry loop every call goes through: `attempt(timeout)` makes one attempt.
     def _call(self, attempt, timeout: Optional[float]):
-        attempts = _Attempts(timeout, self.max_retries)
+        attempts = _Attempts(timeout)
         while True:
             remaining = attempts.remaining()
             if remaining is not None and remaining <= 0:
@@ -171,7 +170,7 @@ class TesseraClient:
             except grpc.RpcError as error:
                 wait = _pushback_seconds(error)
                 remaining = attempts.remaining()
-                if wait is None or attempts.retries >= attempts.max_retries or (
+                if wait is None or attempts.retries >= self.max_retries or (
                         remaining is not None and wait >= remaining):
                     raise TesseraError(error.code(), error.details() or "", attempts.retries) from None
                 attempts.retries += 1
