@@ -7,7 +7,7 @@ sent again after the time the server asks for, while the deadline allows; any ot
 TesseraError with the server's status code and message."""
 import hashlib
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Iterator, List, Optional, Sequence, Tuple, Union
 
@@ -90,17 +90,6 @@ class Frame:
     image: bytes
 
 
-@dataclass
-class _Attempts:
-    """The deadline of a whole call and the retries it took."""
-    timeout: Optional[float]
-    start: float = field(default_factory=time.monotonic)
-    retries: int = 0
-
-    def remaining(self) -> Optional[float]:
-        return None if self.timeout is None else self.timeout - (time.monotonic() - self.start)
-
-
 def _pushback_seconds(error: grpc.RpcError) -> Optional[float]:
     """The server's retry hint on a busy refusal, in seconds (None: not a busy refusal)."""
     if error.code() != grpc.StatusCode.RESOURCE_EXHAUSTED:
@@ -112,6 +101,21 @@ def _pushback_seconds(error: grpc.RpcError) -> Optional[float]:
             except ValueError:
                 return None
     return None
+
+
+def _append_chunk(buffer: bytearray, offset: int, data: bytes, what: str) -> None:
+    """A streamed chunk, which must start where the bytes so far end."""
+    if offset != len(buffer):
+        raise IntegrityError(f"{what}: chunk at offset {offset}, expected {len(buffer)}")
+    buffer += data
+
+
+def _check_received(data: bytearray, size: int, sha256: str, what: str) -> bytes:
+    """The bytes of a stream, if they have the size and SHA-256 the server announced."""
+    if len(data) != size or hashlib.sha256(data).hexdigest() != sha256:
+        raise IntegrityError(f"{what}: {len(data)} bytes received do not match the announced "
+                             f"size {size} and sha256 {sha256}")
+    return bytes(data)
 
 
 def _flat(values, kind) -> list:
@@ -157,25 +161,28 @@ class TesseraClient:
     def __exit__(self, *exc) -> None:
         self.close()
 
-    # The retry loop every call goes through: `attempt(timeout)` makes one attempt.
+    # The retry loop every call goes through: `attempt(timeout)` makes one attempt, `timeout` the
+    # seconds left of the whole call (None: no deadline).
     def _call(self, attempt, timeout: Optional[float]):
-        attempts = _Attempts(timeout)
+        deadline = None if timeout is None else time.monotonic() + timeout
+        retries = 0
         while True:
-            remaining = attempts.remaining()
+            remaining = None if deadline is None else deadline - time.monotonic()
             if remaining is not None and remaining <= 0:
-                raise TesseraError(grpc.StatusCode.DEADLINE_EXCEEDED, "deadline passed while waiting to retry",
-                                   attempts.retries)
+                raise TesseraError(grpc.StatusCode.DEADLINE_EXCEEDED, "deadline passed while waiting to retry", retries)
             try:
                 return attempt(remaining)
             except grpc.RpcError as error:
                 wait = _pushback_seconds(error)
-                remaining = attempts.remaining()
-                if wait is None or attempts.retries >= self.max_retries or (
-                        remaining is not None and wait >= remaining):
-                    raise TesseraError(error.code(), error.details() or "", attempts.retries) from None
-                attempts.retries += 1
+                remaining = None if deadline is None else deadline - time.monotonic()
+                if wait is None or retries >= self.max_retries or (remaining is not None and wait >= remaining):
+                    raise TesseraError(error.code(), error.details() or "", retries) from None
+                retries += 1
                 self.retries += 1
                 time.sleep(wait)
+
+    def _unary(self, method, request, timeout: Optional[float]):
+        return self._call(lambda t: method(request, timeout=t, metadata=self._metadata), timeout)
 
     # -- meshes ---------------------------------------------------------------------------------
 
@@ -250,14 +257,14 @@ class TesseraClient:
 
     def get_mesh(self, mesh_id: str, timeout: Optional[float] = None) -> mesh_pb2.Mesh:
         request = mesh_pb2.GetMeshRequest(name=f"meshes/{mesh_id}")
-        return self._call(lambda t: self._meshes.GetMesh(request, timeout=t, metadata=self._metadata), timeout)
+        return self._unary(self._meshes.GetMesh, request, timeout)
 
     def list_meshes(self, page_size: int = 0, timeout: Optional[float] = None) -> List[mesh_pb2.Mesh]:
         """Every stored mesh, in id order (all pages)."""
         meshes, token = [], ""
         while True:
             request = mesh_pb2.ListMeshesRequest(page_size=page_size, page_token=token)
-            page = self._call(lambda t: self._meshes.ListMeshes(request, timeout=t, metadata=self._metadata), timeout)
+            page = self._unary(self._meshes.ListMeshes, request, timeout)
             meshes.extend(page.meshes)
             token = page.next_page_token
             if not token:
@@ -265,7 +272,7 @@ class TesseraClient:
 
     def delete_mesh(self, mesh_id: str, timeout: Optional[float] = None) -> None:
         request = mesh_pb2.DeleteMeshRequest(name=f"meshes/{mesh_id}")
-        self._call(lambda t: self._meshes.DeleteMesh(request, timeout=t, metadata=self._metadata), timeout)
+        self._unary(self._meshes.DeleteMesh, request, timeout)
 
     # -- tessellation ---------------------------------------------------------------------------
 
@@ -300,17 +307,12 @@ class TesseraClient:
                 if event == "progress" and progress:
                     progress(response.progress.stage, response.progress.fraction)
                 elif event == "glb_chunk":
-                    if response.glb_chunk.offset != len(glb):
-                        raise IntegrityError(f"GLB chunk at offset {response.glb_chunk.offset}, expected {len(glb)}")
-                    glb += response.glb_chunk.data
+                    _append_chunk(glb, response.glb_chunk.offset, response.glb_chunk.data, "GLB")
                 elif event == "summary":
                     summary = response.summary
             if summary is None:
                 raise IntegrityError("the tessellation stream ended without its summary")
-            if summary.glb_size != len(glb) or hashlib.sha256(glb).hexdigest() != summary.glb_sha256:
-                raise IntegrityError(f"the GLB received ({len(glb)} bytes) does not match the summary's "
-                                     f"size {summary.glb_size} and sha256 {summary.glb_sha256}")
-            return Tessellation(bytes(glb), summary)
+            return Tessellation(_check_received(glb, summary.glb_size, summary.glb_sha256, "GLB"), summary)
 
         return self._call(attempt, timeout)
 
@@ -348,10 +350,8 @@ class TesseraClient:
 
             def finish() -> None:
                 header = frames[-1].header
-                if len(image) != header.image_bytes or hashlib.sha256(image).hexdigest() != header.image_sha256:
-                    raise IntegrityError(f"frame {header.index}: {len(image)} bytes received do not match "
-                                         f"its header's {header.image_bytes} bytes and sha256")
-                frames[-1].image = bytes(image)
+                frames[-1].image = _check_received(image, header.image_bytes, header.image_sha256,
+                                                   f"frame {header.index}")
 
             for response in self._render.Render(request, timeout=t, metadata=self._metadata):
                 if response.WhichOneof("event") == "header":
@@ -359,10 +359,10 @@ class TesseraClient:
                         finish()
                     frames.append(Frame(response.header, b""))
                     image.clear()
+                elif not frames:
+                    raise IntegrityError("an image chunk before any frame header")
                 else:
-                    if not frames or response.chunk.offset != len(image):
-                        raise IntegrityError("image chunk out of order")
-                    image += response.chunk.data
+                    _append_chunk(image, response.chunk.offset, response.chunk.data, f"frame {frames[-1].header.index}")
             if frames:
                 finish()
             if len(frames) != len(cameras):
@@ -376,9 +376,9 @@ class TesseraClient:
     def health(self, service: str = "", timeout: Optional[float] = 5.0) -> str:
         """The serving status ("SERVING", "NOT_SERVING", ...) of the server or one of its services."""
         request = health_pb2.HealthCheckRequest(service=service)
-        response = self._call(lambda t: self._health.Check(request, timeout=t, metadata=self._metadata), timeout)
+        response = self._unary(self._health.Check, request, timeout)
         return health_pb2.HealthCheckResponse.ServingStatus.Name(response.status)
 
     def server_info(self, timeout: Optional[float] = 5.0) -> server_info_pb2.ServerInfo:
         request = server_info_pb2.GetServerInfoRequest()
-        return self._call(lambda t: self._info.GetServerInfo(request, timeout=t, metadata=self._metadata), timeout)
+        return self._unary(self._info.GetServerInfo, request, timeout)
