@@ -1,14 +1,21 @@
-// tessera-bound-slack: how far the planner's proven bounds sit above the measured distance, for the
-// grid tiles of an adaptive tessellation (docs/ADAPTIVE.md §8). A grid tile here is a tile of at
-// least two cells (not cell-wise) over one leaf piece without an extraordinary vertex. For each:
-// its bound; the distance of the surface over it from the output triangles of its root (7 × 7
-// samples a cell, each to its nearest such triangle: one side of the two-sided distance the bound
-// covers; other roots are left out so that the far side of a thin wall does not count); and, for
-// comparison, §2's FMM86 form with only the normal component of the piece's second
-// derivatives, and the estimate of docs/ADAPTIVE.md §8's route (the normal component against the
-// normal at the tile's centre, plus its tilt times §2, or the largest deviation of a cell's side
-// or diagonal across its chord; all sampled: estimates of what bounds blind to the
-// parameterization's in-plane distortion could reach, not bounds).
+// tessera-bound-slack: how far the planner's proven bounds sit above the measured distance, and
+// where the slack lies, for the grid tiles of an adaptive tessellation (docs/ADAPTIVE.md §8). A
+// grid tile here is a tile of at least two cells (not cell-wise) without an extraordinary vertex.
+// For each, against the distance of the surface over it from the output triangles of its root
+// (7 × 7 samples a cell, each to its nearest such triangle: one side of the two-sided distance
+// the bound covers; other roots are left out so that the far side of a thin wall does not count):
+//  - its bound;
+//  - the equal-parameter distance sup ‖f − L‖ over its cells, L the two triangles of each cell
+//    along the better of the two diagonals (sampled): what any bound at equal parameters must
+//    cover, so bound / this is the slack of the bound's form and this / measured the share of
+//    the parameterization's in-plane distortion;
+//  - §2's FMM86 form with the second derivatives' sup sampled instead of hull bounds (the hull's
+//    share of the slack);
+//  - a directional form (sampled, an estimate, not a bound): for a triangle in a w × h box with
+//    one edge along u or v, the variance identity Σ λ_k q(x_k) − q(x) = Σ_{j<k} λ_j λ_k q(x_j − x_k)
+//    for the quadratic q = ½ D²f gives ½ max_λ Σ_{j<k} λ_j λ_k |D²f[e_jk, e_jk]|, with
+//    |D²f[e, e]| bounded by w²|f_uu| or h²|f_vv| on the axis edge and on the others by the sup
+//    over every direction the box holds.
 //
 //   build/tools/tessera-bound-slack ../shared/models/bigguy.obj 1e-3
 #include <algorithm>
@@ -18,7 +25,6 @@
 
 #include "core/adaptive_surface.h"
 #include "core/adaptive_tessellator.h"
-#include "core/bicubic.h"
 #include "core/obj_reader.h"
 #include "core/surface_evaluation.h"
 #include "tests/support/triangle_bvh.h"  // closestPointOnTriangle
@@ -27,30 +33,32 @@ namespace tessera {
 namespace {
 
 constexpr int kCellSamples = 6;     // intervals a cell side is sampled at
-constexpr int kCurvatureSamples = 12;
+constexpr int kShapeSamples = 16;   // intervals a tile side is sampled at for second derivatives
 
 struct TileFigures {
-  double bound, measured, normalForm, route;
+  double bound, measured, equalParameter, sampledForm, directionalForm;
 };
 
-// Second derivatives (tile units) and the frame at one point of a leaf's net.
-struct LocalShape {
-  Vec3d fu, fv, fuu, fuv, fvv, normal;
+// Where in its root a point of the tile at (a, b) ∈ [0, 1]² lies.
+struct TileFrame {
+  NodeSquare root;
+  double u0, v0, s;
+  TileFrame(const NodeSquare& r, const Tile& tile)
+      : root(r), u0(double(tile.ix) * tile.size()), v0(double(tile.iy) * tile.size()), s(tile.size()) {}
+  Vec3d at(SurfaceEvaluator& evaluator, double a, double b) const {
+    return evaluator.evaluate(root, u0 + s * a, v0 + s * b).position;
+  }
 };
-
-// The part of x across the unit direction d.
-Vec3d across(const Vec3d& x, const Vec3d& d) { return x - d * dot(x, d); }
 
 // The largest distance of the surface over the tile's cells from the given triangles.
 double measuredDistance(SurfaceEvaluator& evaluator, const TriangleMesh& mesh, const std::vector<uint32_t>& triangles,
-                        const NodeSquare& root, const Tile& tile) {
-  const double s = tile.size(), u0 = double(tile.ix) * s, v0 = double(tile.iy) * s;
+                        const TileFrame& frame, const Tile& tile) {
   const int nu = tile.ru * kCellSamples, nv = tile.rv * kCellSamples;
   const auto corner = [&](uint32_t t, int k) { return Vec3d(mesh.positions[mesh.indices[3 * t + uint32_t(k)]]); };
   double worst = 0;
   for (int j = 0; j <= nv; ++j) {
     for (int i = 0; i <= nu; ++i) {
-      const Vec3d p = evaluator.evaluate(root, u0 + s * i / nu, v0 + s * j / nv).position;
+      const Vec3d p = frame.at(evaluator, double(i) / nu, double(j) / nv);
       double nearest = INFINITY;
       for (const uint32_t t : triangles) {
         nearest = std::min(nearest, length(p - testing::closestPointOnTriangle(p, corner(t, 0), corner(t, 1), corner(t, 2))));
@@ -61,64 +69,76 @@ double measuredDistance(SurfaceEvaluator& evaluator, const TriangleMesh& mesh, c
   return worst;
 }
 
-// The tile's shape sampled on a (kCurvatureSamples + 1)² grid of its interior.
-std::vector<LocalShape> sampleShape(const BezierNet& net, const NodeSquare& leaf, const Tile& tile) {
-  const double s = tile.size(), ls = leaf.size();
-  const double x0 = (double(tile.ix) * s - double(leaf.ix) * ls) / ls, y0 = (double(tile.iy) * s - double(leaf.iy) * ls) / ls;
-  const double k = s / ls, h = 1e-4;  // tile within the leaf's [0, 1]², and a difference step in it
-  const auto d = [&](double a, double b) { return evaluateBezier(net.data(), x0 + k * a, y0 + k * b); };
-  std::vector<LocalShape> shape;
-  for (int j = 0; j <= kCurvatureSamples; ++j) {
-    for (int i = 0; i <= kCurvatureSamples; ++i) {
-      const double a = 0.02 + 0.96 * i / kCurvatureSamples, b = 0.02 + 0.96 * j / kCurvatureSamples;
-      const PatchSample p = d(a, b), pu = d(a + h, b), mu = d(a - h, b), pv = d(a, b + h), mv = d(a, b - h);
-      // Tile units: derivatives in (a, b) are k times those in the leaf's (s, t).
-      const double scale = k * k / (2 * h);
-      LocalShape x{p.dPds * k, p.dPdt * k, (pu.dPds - mu.dPds) * scale, (pv.dPds - mv.dPds) * scale,
-                   (pv.dPdt - mv.dPdt) * scale, cross(p.dPds, p.dPdt)};
-      x.normal = x.normal * (1 / length(x.normal));
-      shape.push_back(x);
+// sup ‖f − L‖ over the cells, each split along diagonal 0 (corners 0–2) or 1 (corners 1–3).
+double equalParameterDistance(SurfaceEvaluator& evaluator, const TileFrame& frame, const Tile& tile, int diagonal) {
+  double worst = 0;
+  for (int cj = 0; cj < tile.rv; ++cj) {
+    for (int ci = 0; ci < tile.ru; ++ci) {
+      const auto f = [&](double a, double b) { return frame.at(evaluator, (ci + a) / tile.ru, (cj + b) / tile.rv); };
+      const Vec3d c00 = f(0, 0), c10 = f(1, 0), c01 = f(0, 1), c11 = f(1, 1);
+      for (int j = 0; j <= kCellSamples; ++j) {
+        for (int i = 0; i <= kCellSamples; ++i) {
+          const double a = double(i) / kCellSamples, b = double(j) / kCellSamples;
+          Vec3d l;
+          if (diagonal == 0) {
+            l = a >= b ? c00 + (c10 - c00) * a + (c11 - c10) * b : c00 + (c01 - c00) * b + (c11 - c01) * a;
+          } else {
+            l = a + b <= 1 ? c00 + (c10 - c00) * a + (c01 - c00) * b : c11 + (c01 - c11) * (1 - a) + (c10 - c11) * (1 - b);
+          }
+          worst = std::max(worst, length(f(a, b) - l));
+        }
+      }
     }
   }
-  return shape;
+  return worst;
 }
 
-double form(double uu, double uv, double vv, const Tile& tile) {
-  const double w = 1.0 / tile.ru, h = 1.0 / tile.rv;
-  return (w * w * uu + 2 * w * h * uv + h * h * vv) / 8;
-}
-
-// §2's form with |n · f_uu|, |n · f_uv|, |n · f_vv| (n the unit normal at each sample).
-double normalForm(const std::vector<LocalShape>& shape, const Tile& tile) {
-  double uu = 0, uv = 0, vv = 0;
-  for (const LocalShape& x : shape) {
-    uu = std::max(uu, std::abs(dot(x.normal, x.fuu)));
-    uv = std::max(uv, std::abs(dot(x.normal, x.fuv)));
-    vv = std::max(vv, std::abs(dot(x.normal, x.fvv)));
-  }
-  return form(uu, uv, vv, tile);
-}
-
-// §8's route: inside, the normal part against one direction N plus the tilt |n − N| times §2;
-// on the edges of a cell (two sides, two diagonals), the edge curve's deviation across its chord.
-double routeEstimate(const std::vector<LocalShape>& shape, const Tile& tile) {
-  const Vec3d axis = shape[shape.size() / 2].normal;
-  double nuu = 0, nuv = 0, nvv = 0, uu = 0, uv = 0, vv = 0, tilt = 0, edges = 0;
-  const double w = 1.0 / tile.ru, h = 1.0 / tile.rv;
-  for (const LocalShape& x : shape) {
-    nuu = std::max(nuu, std::abs(dot(axis, x.fuu)));
-    nuv = std::max(nuv, std::abs(dot(axis, x.fuv)));
-    nvv = std::max(nvv, std::abs(dot(axis, x.fvv)));
-    uu = std::max(uu, length(x.fuu)), uv = std::max(uv, length(x.fuv)), vv = std::max(vv, length(x.fvv));
-    tilt = std::max(tilt, length(x.normal - axis));
-    const double du[4] = {w, 0, w, w}, dv[4] = {0, h, h, -h};
-    for (int e = 0; e < 4; ++e) {
-      const Vec3d chord = x.fu * du[e] + x.fv * dv[e];
-      const Vec3d second = x.fuu * (du[e] * du[e]) + x.fuv * (2 * du[e] * dv[e]) + x.fvv * (dv[e] * dv[e]);
-      edges = std::max(edges, length(across(second, chord * (1 / length(chord)))) / 8);
+// max over the simplex of a λ0λ1 + b λ1λ2 + c λ0λ2 for a, b, c ≥ 0: an edge's midpoint, or the
+// interior point where the gradient is (μ, μ, μ) when all its weights are positive.
+double maxOverSimplex(double a, double b, double c) {
+  double best = std::max({a, b, c}) / 4;
+  double m[4][5] = {{0, a, c, -1, 0}, {a, 0, b, -1, 0}, {c, b, 0, -1, 0}, {1, 1, 1, 0, 1}};
+  for (int i = 0; i < 4; ++i) {
+    int pivot = i;
+    for (int r = i + 1; r < 4; ++r) {
+      if (std::abs(m[r][i]) > std::abs(m[pivot][i])) pivot = r;
+    }
+    std::swap(m[i], m[pivot]);
+    if (std::abs(m[i][i]) < 1e-300) return best;
+    for (int r = 0; r < 4; ++r) {
+      if (r == i) continue;
+      const double factor = m[r][i] / m[i][i];
+      for (int k = i; k < 5; ++k) m[r][k] -= factor * m[i][k];
     }
   }
-  return std::max(form(nuu, nuv, nvv, tile) + tilt * form(uu, uv, vv, tile), edges);
+  const double l0 = m[0][4] / m[0][0], l1 = m[1][4] / m[1][1], l2 = m[2][4] / m[2][2];
+  if (l0 >= 0 && l1 >= 0 && l2 >= 0) best = std::max(best, a * l0 * l1 + b * l1 * l2 + c * l0 * l2);
+  return best;
+}
+
+// The FMM86 form and the directional form, both from second derivatives sampled by central
+// differences (in cell units: w² f_uu, w h f_uv, h² f_vv) on a grid over the tile.
+void sampledForms(SurfaceEvaluator& evaluator, const TileFrame& frame, const Tile& tile, double& fmm, double& directional) {
+  double uu = 0, uv = 0, vv = 0, across = 0;
+  const double d = 1e-3 / std::max(tile.ru, tile.rv);
+  for (int j = 0; j <= kShapeSamples; ++j) {
+    for (int i = 0; i <= kShapeSamples; ++i) {
+      const double a = 0.01 + 0.98 * i / kShapeSamples, b = 0.01 + 0.98 * j / kShapeSamples;
+      const auto f = [&](double x, double y) { return frame.at(evaluator, a + x * d, b + y * d); };
+      const Vec3d p = f(0, 0);
+      const double w = 1.0 / tile.ru, h = 1.0 / tile.rv;
+      const Vec3d fuu = (f(1, 0) - p * 2 + f(-1, 0)) * (w * w / (d * d));
+      const Vec3d fvv = (f(0, 1) - p * 2 + f(0, -1)) * (h * h / (d * d));
+      const Vec3d fuv = (f(1, 1) - f(1, -1) - f(-1, 1) + f(-1, -1)) * (w * h / (4 * d * d));
+      uu = std::max(uu, length(fuu)), uv = std::max(uv, length(fuv)), vv = std::max(vv, length(fvv));
+      // Every direction (δ, ±h), |δ| ≤ w, and (w, ±δ'), |δ'| ≤ h: the Bernstein coefficients of
+      // the quadratic in δ on [0, w] and [−w, 0], and likewise in δ'.
+      across = std::max({across, length(fuu + fuv * 2 + fvv), length(fuu - fuv * 2 + fvv), length(fvv + fuv),
+                         length(fvv - fuv), length(fuu + fuv), length(fuu - fuv), length(fuu), length(fvv)});
+    }
+  }
+  fmm = (uu + 2 * uv + vv) / 8;
+  directional = maxOverSimplex(std::max(uu, vv), across, across) / 2;
 }
 
 double quantile(std::vector<double> v, double q) {
@@ -149,12 +169,15 @@ int run(const char* path, double relative) {
     const NodeSquare root{tree.roots[r].node, 0, 0, 0};
     for (uint32_t t = layout.plan.rootFirstTile[r]; t < layout.plan.rootFirstTile[r + 1]; ++t) {
       const Tile& tile = layout.plan.tiles[t];
-      const SurfaceNode& node = tree.nodes[tile.node.node];
-      if (tile.ru * tile.rv < 2 || tile.cellwise || !node.isLeaf() || node.evCorners != 0) continue;
-      const double measured = measuredDistance(evaluator, output, rootTriangles[r], root, tile);
+      if (tile.ru * tile.rv < 2 || tile.cellwise || tree.nodes[tile.node.node].evCorners != 0) continue;
+      const TileFrame frame(root, tile);
+      const double measured = measuredDistance(evaluator, output, rootTriangles[r], frame, tile);
       if (!(measured > 0)) continue;
-      const std::vector<LocalShape> shape = sampleShape(pieceNet(tree, patches, tile.node.node), tile.node, tile);
-      figures.push_back({tile.bound, measured, normalForm(shape, tile), routeEstimate(shape, tile)});
+      TileFigures f{tile.bound, measured, 0, 0, 0};
+      f.equalParameter = std::min(equalParameterDistance(evaluator, frame, tile, 0),
+                                  equalParameterDistance(evaluator, frame, tile, 1));
+      sampledForms(evaluator, frame, tile, f.sampledForm, f.directionalForm);
+      figures.push_back(f);
       triangles += 2L * tile.ru * tile.rv;
     }
   }
@@ -162,20 +185,17 @@ int run(const char* path, double relative) {
     std::printf("no grid tiles\n");
     return 0;
   }
-  std::vector<double> bound, normal, route;
-  for (const TileFigures& f : figures) {
-    bound.push_back(f.bound / f.measured);
-    normal.push_back(f.normalForm / f.measured);
-    route.push_back(f.route / f.measured);
-  }
   std::printf("%s at %g: %zu grid tiles, %ld of %zu triangles before stitching\n", path, relative, figures.size(),
               triangles, size_t(layout.plan.gridTriangles));
-  std::printf("  bound / measured:              10%% %.2f  50%% %.2f  90%% %.2f\n", quantile(bound, 0.1),
-              quantile(bound, 0.5), quantile(bound, 0.9));
-  std::printf("  normal-only FMM86 / measured:  10%% %.2f  50%% %.2f  90%% %.2f\n", quantile(normal, 0.1),
-              quantile(normal, 0.5), quantile(normal, 0.9));
-  std::printf("  route estimate / measured:     10%% %.2f  50%% %.2f  90%% %.2f\n", quantile(route, 0.1),
-              quantile(route, 0.5), quantile(route, 0.9));
+  const auto row = [&figures](const char* name, auto ratio) {
+    std::vector<double> v;
+    for (const TileFigures& f : figures) v.push_back(ratio(f));
+    std::printf("  %-44s 10%% %5.2f  50%% %5.2f  90%% %5.2f\n", name, quantile(v, 0.1), quantile(v, 0.5), quantile(v, 0.9));
+  };
+  row("bound / measured", [](const TileFigures& f) { return f.bound / f.measured; });
+  row("equal-parameter distance / measured", [](const TileFigures& f) { return f.equalParameter / f.measured; });
+  row("FMM86 form, sampled derivatives / measured", [](const TileFigures& f) { return f.sampledForm / f.measured; });
+  row("directional form, sampled / measured", [](const TileFigures& f) { return f.directionalForm / f.measured; });
   return 0;
 }
 
