@@ -244,13 +244,4 @@ int depthFromTable(const std::vector<double>& table, double radius, double toler
   return m;
 }
 
-double ringRadius(const RingRules& rules, const float* ring) {
-  double radius = 0;
-  for (int p = 0; p < rules.shape.ringPointCount(); ++p) {
-    const float* q = ring + 3 * p;
-    radius = std::max(radius, std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2]));
-  }
-  return radius;
-}
-
 }  // namespace tessera::bench

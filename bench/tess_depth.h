@@ -36,7 +36,4 @@ const ControlMeshBounds& controlMeshBounds(const RingRules& rules);
 // The smallest m ≤ 24 with table[m] · radius ≤ tolerance (24 if none).
 int depthFromTable(const std::vector<double>& table, double radius, double tolerance);
 
-// max_l ‖q_l‖ of a ring stored relative to its EV (the radius core/depth_tables.cpp uses).
-double ringRadius(const RingRules& rules, const float* ring);
-
 }  // namespace tessera::bench

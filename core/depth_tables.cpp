@@ -23,7 +23,7 @@ struct TableEntry {
 };
 
 const TableEntry kTables[] = {
-#include "tools/depth_tables/depth_tables.inc"
+#include "core/depth_tables_data.inc"
 };
 
 // Computing a bound costs about sectors · rows · N² · depth multiply-adds; beyond this budget
@@ -72,15 +72,6 @@ std::vector<double> computedForKind(const RingRules& rules) {
   return computeDepthBound(kind);
 }
 
-double ringRadius(const RingRules& rules, const float* ring) {
-  double radius = 0;
-  for (int p = 0; p < rules.shape.ringPointCount(); ++p) {
-    const float* q = ring + 3 * p;
-    radius = std::max(radius, std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2]));
-  }
-  return radius;
-}
-
 // A-posteriori: the limit surface lies in the hull of the ring, the approximation in the hull of
 // its Bézier points, so dist ≤ max ‖q − p‖ + max ‖b − p‖ with p the EV's limit point.
 double hullBound(const RingRules& rules, const float* ring) {
@@ -110,6 +101,15 @@ DepthEstimate estimateByRefining(const RingRules& rules, const float* ring, doub
 }
 
 }  // namespace
+
+double ringRadius(const RingRules& rules, const float* ring) {
+  double radius = 0;
+  for (int p = 0; p < rules.shape.ringPointCount(); ++p) {
+    const float* q = ring + 3 * p;
+    radius = std::max(radius, std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2]));
+  }
+  return radius;
+}
 
 const std::vector<double>* depthCoefficients(const RingRules& rules) {
   if (const auto* table = checkedInTable(rules)) return table;

@@ -1,6 +1,7 @@
 // Depth estimation at run time (paper §5.2): the smallest FAS depth m whose Tier-1 bound
 // c_m · max_l ‖q_l − c‖ meets a ring's share ηε of the tolerance. Coefficients come from the
-// tables checked in under tools/depth_tables/ (interior and boundary rings), are computed once
+// tables checked in as core/depth_tables_data.inc (interior and boundary rings; written by
+// tools/depth_tables/generate_depth_tables.cpp), are computed once
 // per process for other ring kinds when that is cheap, and otherwise the depth is found by
 // refining with an a-posteriori convex-hull bound.
 #pragma once
@@ -23,6 +24,9 @@ const std::vector<double>* depthCoefficients(const RingRules& rules);
 // `tolerance`: the ring's budget ηε. Depth is capped at kMaxTableDepth; `bound` says what was
 // achieved (it exceeds the tolerance only when the cap was hit).
 DepthEstimate estimateDepth(const RingRules& rules, const float* ring, double tolerance);
+
+// max_l ‖q_l − c‖ of a ring stored relative to its EV c: the radius the coefficients multiply.
+double ringRadius(const RingRules& rules, const float* ring);
 
 // The guaranteed distance after a given depth (uniform mode).
 double boundAtDepth(const RingRules& rules, const float* ring, int depth);

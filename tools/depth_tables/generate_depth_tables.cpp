@@ -1,6 +1,6 @@
-// Generates the checked-in depth tables (depth_tables.inc beside this file): c_m of the Tier-1
-// bound (core/depth_bound.h) for interior rings of valence 2..64 and boundary rings of 1..32
-// faces, m = 0..24. Usage: generate-depth-tables > tools/depth_tables/depth_tables.inc
+// Generates the checked-in depth tables (core/depth_tables_data.inc, the data core/depth_tables.cpp
+// compiles in): c_m of the Tier-1 bound (core/depth_bound.h) for interior rings of valence 2..64
+// and boundary rings of 1..32 faces, m = 0..24. Usage: generate-depth-tables > core/depth_tables_data.inc
 #include <cstdio>
 
 #include "core/depth_bound.h"
