@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "gpu/vulkan/vulkan_error.h"
-#include "server/render_device_probe.h"
+#include "gpu/vulkan/device_probe.h"
 
 namespace tessera::server {
 namespace {
@@ -76,7 +76,7 @@ VulkanRenderBackend::VulkanRenderBackend(PatchSetCache& patches, gpu::DeviceSele
   // renders pays little for it.
   Clock::time_point start = Clock::now();
   try {
-    ProbedDevice probed = probeRenderDevice(selection_);
+    gpu::ProbedDevice probed = gpu::probeRenderDevice(selection_);
     std::string what =
         fmt::format("{} ({}), {}{}", probed.name, probed.driver, gpu::deviceKindName(probed.kind),
                     probed.meshShaderExtension ? ", VK_EXT_mesh_shader" : "");

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "gpu/vulkan/device_ranking.h"
+#include "gpu/vulkan/physical_device_queries.h"
 #include "gpu/vulkan/vulkan_error.h"
 
 namespace tessera::gpu {
@@ -26,45 +27,6 @@ bool hasLayer(const char* name) {
     if (std::strcmp(l.layerName, name) == 0) return true;
   }
   return false;
-}
-
-bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
-  uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
-  std::vector<VkExtensionProperties> extensions(count);
-  vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
-  for (const VkExtensionProperties& e : extensions) {
-    if (std::strcmp(e.extensionName, name) == 0) return true;
-  }
-  return false;
-}
-
-DeviceKind kindOf(VkPhysicalDeviceType type) {
-  switch (type) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
-      return DeviceKind::kDiscrete;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
-      return DeviceKind::kIntegrated;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
-      return DeviceKind::kVirtual;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU:
-      return DeviceKind::kCpu;
-    default:
-      return DeviceKind::kOther;
-  }
-}
-
-// The first queue family that does graphics and compute (and so transfers), or -1.
-int graphicsComputeFamily(VkPhysicalDevice device) {
-  uint32_t count = 0;
-  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, nullptr);
-  std::vector<VkQueueFamilyProperties> families(count);
-  vkGetPhysicalDeviceQueueFamilyProperties(device, &count, families.data());
-  for (uint32_t i = 0; i < count; ++i) {
-    VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-    if ((families[i].queueFlags & need) == need) return static_cast<int>(i);
-  }
-  return -1;
 }
 
 // Empty when the device has what the compute path needs, else the reason it does not.
