@@ -19,13 +19,6 @@ constexpr double kDefaultEta = 0.5;
 // direction; checking the same bound here keeps its error from ever being the one users see.
 constexpr double kMinUpSine = 1e-6;
 
-void requirePositiveFinite(double value, std::string_view field) {
-  if (!std::isfinite(value)) {
-    throwInvalidArgument(fmt::format("{}: must be a finite number (got {})", field, value));
-  }
-  if (value <= 0) throwInvalidArgument(fmt::format("{}: must be positive (got {})", field, value));
-}
-
 // The renderer works in single precision: a double that is finite but beyond float's range
 // would become infinite there.
 bool fitsFloat(double value) {

@@ -41,6 +41,10 @@ class StatusError : public std::runtime_error {
   throw StatusError(grpc::StatusCode::RESOURCE_EXHAUSTED, message);
 }
 
+// A request field that must be a finite positive number: INVALID_ARGUMENT naming the field and
+// the value otherwise.
+void requirePositiveFinite(double value, std::string_view field);
+
 // core/ reports bad input with TesseraError; its kind decides the status and its message, which
 // already names the problem and where, is passed on unchanged.
 grpc::Status statusFromTesseraError(const TesseraError& error);

@@ -15,13 +15,6 @@ constexpr double kDefaultEta = 0.5;
 constexpr double kDefaultPixelAccuracy = 0.5;
 constexpr int kMaxViewportSide = 16384;
 
-void requirePositiveFinite(double value, const char* field) {
-  if (!std::isfinite(value)) {
-    throwInvalidArgument(fmt::format("{}: must be a finite number (got {})", field, value));
-  }
-  if (value <= 0) throwInvalidArgument(fmt::format("{}: must be positive (got {})", field, value));
-}
-
 Vec3d requireVec3(bool present, const v1::Vec3& v, const char* field) {
   if (!present) throwInvalidArgument(fmt::format("{}: is required", field));
   if (!std::isfinite(v.x()) || !std::isfinite(v.y()) || !std::isfinite(v.z())) {

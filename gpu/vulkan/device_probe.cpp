@@ -32,25 +32,15 @@ ProbedDevice probeRenderDevice(const DeviceSelection& selection) {
   vkCheck(vkCreateInstance(&info, nullptr, &raw), "vkCreateInstance");
   Instance instance(raw);
 
-  uint32_t count = 0;
-  vkCheck(vkEnumeratePhysicalDevices(raw, &count, nullptr), "vkEnumeratePhysicalDevices");
-  std::vector<VkPhysicalDevice> devices(count);
-  vkCheck(vkEnumeratePhysicalDevices(raw, &count, devices.data()),
-               "vkEnumeratePhysicalDevices");
+  const std::vector<VkPhysicalDevice> devices = physicalDevices(raw);
   std::vector<DeviceCandidate> candidates;
   for (VkPhysicalDevice device : devices) {
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(device, &props);
-    DeviceCandidate c;
-    c.name = props.deviceName;
-    c.vendorId = props.vendorID;
-    c.kind = kindOf(props.deviceType);
-    if (props.apiVersion < VK_API_VERSION_1_3)
-      c.whyUnusable = "Vulkan 1.3 required";
-    else if (graphicsComputeFamily(device) < 0)
-      c.whyUnusable = "no graphics+compute queue";
-    c.usable = c.whyUnusable.empty();
-    candidates.push_back(c);
+    const char* why = props.apiVersion < VK_API_VERSION_1_3 ? "Vulkan 1.3 required"
+                      : graphicsComputeFamily(device) < 0   ? "no graphics+compute queue"
+                                                            : "";
+    candidates.push_back(candidateOf(device, why));
   }
   size_t chosen = chooseDevice(candidates, selection);
 

@@ -1,7 +1,10 @@
 #include "gpu/vulkan/physical_device_queries.h"
 
 #include <cstring>
+#include <utility>
 #include <vector>
+
+#include "gpu/vulkan/vulkan_error.h"
 
 namespace tessera::gpu {
 
@@ -41,6 +44,27 @@ bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
     if (std::strcmp(e.extensionName, name) == 0) return true;
   }
   return false;
+}
+
+std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
+  uint32_t count = 0;
+  vkCheck(vkEnumeratePhysicalDevices(instance, &count, nullptr), "vkEnumeratePhysicalDevices");
+  std::vector<VkPhysicalDevice> devices(count);
+  vkCheck(vkEnumeratePhysicalDevices(instance, &count, devices.data()),
+          "vkEnumeratePhysicalDevices");
+  return devices;
+}
+
+DeviceCandidate candidateOf(VkPhysicalDevice device, std::string whyUnusable) {
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(device, &props);
+  DeviceCandidate c;
+  c.name = props.deviceName;
+  c.vendorId = props.vendorID;
+  c.kind = kindOf(props.deviceType);
+  c.whyUnusable = std::move(whyUnusable);
+  c.usable = c.whyUnusable.empty();
+  return c;
 }
 
 }  // namespace tessera::gpu

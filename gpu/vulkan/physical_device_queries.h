@@ -5,6 +5,10 @@
 
 #include <vulkan/vulkan.h>
 
+#include <string>
+#include <vector>
+
+#include "gpu/vulkan/device_ranking.h"
 #include "gpu/vulkan/device_selection.h"
 
 namespace tessera::gpu {
@@ -13,5 +17,9 @@ DeviceKind kindOf(VkPhysicalDeviceType type);
 // The first queue family that does graphics and compute (and so transfers), or -1.
 int graphicsComputeFamily(VkPhysicalDevice device);
 bool hasDeviceExtension(VkPhysicalDevice device, const char* name);
+// The instance's physical devices (throws VulkanError when the loader fails).
+std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance);
+// A device as device ranking sees it: name, vendor, kind, and usable when `whyUnusable` is empty.
+DeviceCandidate candidateOf(VkPhysicalDevice device, std::string whyUnusable);
 
 }  // namespace tessera::gpu

@@ -139,23 +139,9 @@ void VulkanContext::createInstance(bool wantValidation) {
 }
 
 void VulkanContext::pickPhysicalDevice(const DeviceSelection& selection) {
-  uint32_t count = 0;
-  vkCheck(vkEnumeratePhysicalDevices(instance_, &count, nullptr), "vkEnumeratePhysicalDevices");
-  std::vector<VkPhysicalDevice> devices(count);
-  vkCheck(vkEnumeratePhysicalDevices(instance_, &count, devices.data()),
-          "vkEnumeratePhysicalDevices");
+  const std::vector<VkPhysicalDevice> devices = physicalDevices(instance_);
   std::vector<DeviceCandidate> candidates;
-  for (VkPhysicalDevice d : devices) {
-    VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(d, &props);
-    DeviceCandidate c;
-    c.name = props.deviceName;
-    c.vendorId = props.vendorID;
-    c.kind = kindOf(props.deviceType);
-    c.whyUnusable = missingRequirement(d);
-    c.usable = c.whyUnusable.empty();
-    candidates.push_back(c);
-  }
+  for (VkPhysicalDevice d : devices) candidates.push_back(candidateOf(d, missingRequirement(d)));
   size_t chosen = chooseDevice(candidates, selection);
   physical_ = devices[chosen];
 
