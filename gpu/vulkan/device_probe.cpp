@@ -34,14 +34,8 @@ ProbedDevice probeRenderDevice(const DeviceSelection& selection) {
 
   const std::vector<VkPhysicalDevice> devices = physicalDevices(raw);
   std::vector<DeviceCandidate> candidates;
-  for (VkPhysicalDevice device : devices) {
-    VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(device, &props);
-    const char* why = props.apiVersion < VK_API_VERSION_1_3 ? "Vulkan 1.3 required"
-                      : graphicsComputeFamily(device) < 0   ? "no graphics+compute queue"
-                                                            : "";
-    candidates.push_back(candidateOf(device, why));
-  }
+  for (VkPhysicalDevice device : devices)
+    candidates.push_back(candidateOf(device, missingBasics(device)));
   size_t chosen = chooseDevice(candidates, selection);
 
   VkPhysicalDeviceDriverProperties driver{};

@@ -46,6 +46,14 @@ bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
   return false;
 }
 
+std::string missingBasics(VkPhysicalDevice device) {
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(device, &props);
+  if (props.apiVersion < VK_API_VERSION_1_3) return "Vulkan 1.3 required";
+  if (graphicsComputeFamily(device) < 0) return "no graphics+compute queue";
+  return {};
+}
+
 std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
   uint32_t count = 0;
   vkCheck(vkEnumeratePhysicalDevices(instance, &count, nullptr), "vkEnumeratePhysicalDevices");

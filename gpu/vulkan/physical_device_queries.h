@@ -17,6 +17,9 @@ DeviceKind kindOf(VkPhysicalDeviceType type);
 // The first queue family that does graphics and compute (and so transfers), or -1.
 int graphicsComputeFamily(VkPhysicalDevice device);
 bool hasDeviceExtension(VkPhysicalDevice device, const char* name);
+// Empty when the device has Vulkan 1.3 and a graphics+compute queue, else which it lacks: what
+// the probe asks of a device, and the first of the renderer's requirements.
+std::string missingBasics(VkPhysicalDevice device);
 // The instance's physical devices (throws VulkanError when the loader fails).
 std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance);
 // A device as device ranking sees it: name, vendor, kind, and usable when `whyUnusable` is empty.

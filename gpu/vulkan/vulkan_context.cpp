@@ -31,10 +31,7 @@ bool hasLayer(const char* name) {
 
 // Empty when the device has what the compute path needs, else the reason it does not.
 std::string missingRequirement(VkPhysicalDevice device) {
-  VkPhysicalDeviceProperties props;
-  vkGetPhysicalDeviceProperties(device, &props);
-  if (props.apiVersion < VK_API_VERSION_1_3) return "Vulkan 1.3 required";
-  if (graphicsComputeFamily(device) < 0) return "no graphics+compute queue";
+  if (std::string basics = missingBasics(device); !basics.empty()) return basics;
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f13};
   vkGetPhysicalDeviceFeatures2(device, &f2);
