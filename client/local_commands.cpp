@@ -2,19 +2,18 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
+#include "client/camera_flags.h"
 #include "client/commands.h"
 #include "core/error.h"
-#include "core/mesh_report.h"
-#include "core/obj_reader.h"
 #include "core/glb_output.h"
 #include "core/mesh_codec.h"
+#include "core/mesh_report.h"
+#include "core/obj_reader.h"
 #include "core/sha256.h"
 #include "core/tessellate.h"
-#include "client/camera_flags.h"
 #if TESSERA_WITH_REMOTE
 #include "client/remote_tessellate.h"
 #endif
@@ -26,9 +25,12 @@ namespace tessera::cli {
 
 int exitCodeFor(const TesseraError& error) {
   switch (error.kind()) {
-    case ErrorKind::kInvalidInput: return kExitInvalidInput;
-    case ErrorKind::kUnsupported: return kExitUnsupported;
-    case ErrorKind::kLimitExceeded: return kExitLimit;
+    case ErrorKind::kInvalidInput:
+      return kExitInvalidInput;
+    case ErrorKind::kUnsupported:
+      return kExitUnsupported;
+    case ErrorKind::kLimitExceeded:
+      return kExitLimit;
   }
   return kExitInvalidInput;
 }
@@ -58,6 +60,8 @@ nlohmann::json toJson(const MeshReport& r) {
       {"corners", r.corners},
       {"holes", r.holes},
       {"boundary_interpolation", r.boundaryInterpolation},
+      {"crease_method", r.creaseMethod},
+      {"triangle_subdivision", r.triangleSubdivision},
       {"regular_patches", r.regularPatches},
       {"rings", rings},
       {"locally_refined_faces", r.locallyRefinedFaces},
@@ -77,19 +81,23 @@ std::string formatHistogram(const std::map<int, int>& counts) {
 void printText(const std::string& path, const MeshReport& r) {
   std::printf("%s\n", path.c_str());
   std::printf("  vertices            %d (%d unused)\n", r.vertices, r.unusedVertices);
-  std::printf("  faces               %d  sizes {%s}\n", r.faces, formatHistogram(r.faceSizes).c_str());
+  std::printf("  faces               %d  sizes {%s}\n", r.faces,
+              formatHistogram(r.faceSizes).c_str());
   std::printf("  valences            {%s}\n", formatHistogram(r.valences).c_str());
   std::printf("  edges               %d (%d on a boundary)\n", r.edges, r.boundaryEdges);
   std::printf("  creases             %d (%d infinitely sharp), corners %d, holes %d\n", r.creases,
               r.infiniteCreases, r.corners, r.holes);
-  std::printf("  boundary rule       %s\n", r.boundaryInterpolation.c_str());
+  std::printf("  rules               boundary %s, creases %s, triangles %s\n",
+              r.boundaryInterpolation.c_str(), r.creaseMethod.c_str(),
+              r.triangleSubdivision.c_str());
   if (!r.refusal.empty()) {
     std::printf("  refused             %s\n", r.refusal.c_str());
     return;
   }
   std::printf("  regular patches     %d\n", r.regularPatches);
   for (const auto& [kind, byValence] : r.ringsByKind) {
-    std::printf("  %-8s rings      {%s} (valence: count)\n", kind.c_str(), formatHistogram(byValence).c_str());
+    std::printf("  %-8s rings      {%s} (valence: count)\n", kind.c_str(),
+                formatHistogram(byValence).c_str());
   }
   std::printf("  locally refined     %d base faces (isolation level %d)\n", r.locallyRefinedFaces,
               r.isolationLevel);
@@ -126,7 +134,8 @@ int runLocalTessellate(const TessellateFlags& flags) {
     double preprocessMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const GlbEncoding encoding = parseGlbEncoding(flags.encoding);
-    const std::optional<PositionQuantization> positions = reserveForEncoding(encoding, patches, options);
+    const std::optional<PositionQuantization> positions =
+        reserveForEncoding(encoding, patches, options);
     TessellationResult result = tessellate(patches, mesh, options);
     // Named by the file's stem, as a server names it by the mesh id ("bigguy" for bigguy.obj
     // uploaded as meshes/bigguy), with the SHA-256 the server would give it: the output does not
@@ -134,21 +143,24 @@ int runLocalTessellate(const TessellateFlags& flags) {
     // the same bytes.
     const GlbRequest request{encoding, std::filesystem::path(flags.model).stem().string(),
                              sha256Hex(encodeCanonicalMesh(mesh))};
-    std::vector<uint8_t> glb = writeGlb(result.mesh, glbOptionsFor(request, options, result.summary, positions));
+    std::vector<uint8_t> glb =
+        writeGlb(result.mesh, glbOptionsFor(request, options, result.summary, positions));
     std::ofstream out(flags.output, std::ios::binary);
     out.write(reinterpret_cast<const char*>(glb.data()), std::streamsize(glb.size()));
     if (!out) {
       std::cerr << "tessera tessellate: cannot write " << flags.output << "\n";
       return kExitIo;
     }
-    double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    double totalMs =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const TessellationSummary& s = result.summary;
     std::printf("triangles        %lld\n", (long long)s.triangles);
-    std::printf("patches          %lld (%zu regular, %d rings)\n", (long long)s.pieces, patches.regular.size(), s.rings);
+    std::printf("patches          %lld (%zu regular, %d rings)\n", (long long)s.pieces,
+                patches.regular.size(), s.rings);
     std::printf("ring depth       average %.2f, maximum %d\n", s.averageDepth, s.maxDepth);
     std::printf("guaranteed bound %.6g (tolerance %.6g)\n", s.guaranteedBound, s.tolerance);
-    std::printf("time             %.1f ms (preprocess %.1f, plan %.1f, triangulate %.1f)\n", totalMs,
-                preprocessMs, s.planMs, s.tessellateMs);
+    std::printf("time             %.1f ms (preprocess %.1f, plan %.1f, triangulate %.1f)\n",
+                totalMs, preprocessMs, s.planMs, s.tessellateMs);
     std::printf("wrote            %s (%zu bytes)\n", flags.output.c_str(), glb.size());
     return kExitOk;
   } catch (const TesseraError& e) {

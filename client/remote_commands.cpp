@@ -10,10 +10,11 @@
 
 #include "client/commands.h"
 #include "client/remote_bench.h"
-#include "client/remote_render.h"
 #include "client/remote_connection.h"
 #include "client/remote_progress.h"
+#include "client/remote_render.h"
 #include "client/remote_upload.h"
+#include "core/subdivision_rules.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "tessera/v1/mesh.grpc.pb.h"
 #include "tessera/v1/server_info.grpc.pb.h"
@@ -32,8 +33,22 @@ std::string formatTime(const google::protobuf::Timestamp& t) {
   return text;
 }
 
-const char* boundaryName(v1::BoundaryInterpolation b) {
-  return b == v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER ? "edge-and-corner" : "edge-only";
+// The stored mesh's rules, named as `tessera inspect` and the upload flags name them.
+std::string rulesText(const v1::SubdivisionOptions& o) {
+  const BoundaryInterpolation boundary =
+      o.boundary_interpolation() == v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER
+          ? BoundaryInterpolation::kEdgeAndCorner
+      : o.boundary_interpolation() == v1::BOUNDARY_INTERPOLATION_NONE
+          ? BoundaryInterpolation::kNone
+          : BoundaryInterpolation::kEdgeOnly;
+  const CreaseMethod creases = o.crease_method() == v1::CREASE_METHOD_CHAIKIN
+                                   ? CreaseMethod::kChaikin
+                                   : CreaseMethod::kUniform;
+  const TriangleSubdivision triangles = o.triangle_subdivision() == v1::TRIANGLE_SUBDIVISION_SMOOTH
+                                            ? TriangleSubdivision::kSmooth
+                                            : TriangleSubdivision::kCatmark;
+  return fmt::format("boundary {}, creases {}, triangles {}", boundaryName(boundary),
+                     creaseMethodName(creases), triangleSubdivisionName(triangles));
 }
 
 void printMesh(const v1::Mesh& m) {
@@ -41,21 +56,20 @@ void printMesh(const v1::Mesh& m) {
   std::cout << fmt::format(
       "name          {}\ndisplay name  {}\nsource        {} ({})\nvertices      {}\n"
       "faces         {} ({} face vertices)\ncreases       {}\ncorners       {}\nholes         {}\n"
-      "boundary      {}\nbounding box  ({:g}, {:g}, {:g}) - ({:g}, {:g}, {:g})\n"
+      "rules         {}\nbounding box  ({:g}, {:g}, {:g}) - ({:g}, {:g}, {:g})\n"
       "sha256        {}\nstored        {}\ncreated       {}\n",
       m.name(), m.display_name(), m.source_format() == v1::MESH_FORMAT_OBJ ? "OBJ" : "arrays",
       humanBytes(m.source_bytes()), m.vertex_count(), m.face_count(), m.face_vertex_count(),
-      m.crease_count(), m.corner_count(), m.hole_count(),
-      boundaryName(m.options().boundary_interpolation()), b.min().x(), b.min().y(), b.min().z(),
-      b.max().x(), b.max().y(), b.max().z(), m.sha256(), humanBytes(m.stored_bytes()),
-      formatTime(m.create_time()));
+      m.crease_count(), m.corner_count(), m.hole_count(), rulesText(m.options()), b.min().x(),
+      b.min().y(), b.min().z(), b.max().x(), b.max().y(), b.max().z(), m.sha256(),
+      humanBytes(m.stored_bytes()), formatTime(m.create_time()));
 }
 
 struct UploadArgs {
   std::string file;
   std::string name;
   std::string displayName;
-  std::string boundary;
+  std::string boundary, creaseMethod, triangles;
 };
 
 int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
@@ -66,6 +80,17 @@ int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
     options.subdivision.set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_EDGE_ONLY);
   } else if (args.boundary == "edge-and-corner") {
     options.subdivision.set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER);
+  } else if (args.boundary == "none") {
+    options.subdivision.set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_NONE);
+  }
+  if (!args.creaseMethod.empty()) {
+    options.subdivision.set_crease_method(
+        args.creaseMethod == "chaikin" ? v1::CREASE_METHOD_CHAIKIN : v1::CREASE_METHOD_UNIFORM);
+  }
+  if (!args.triangles.empty()) {
+    options.subdivision.set_triangle_subdivision(args.triangles == "smooth"
+                                                     ? v1::TRIANGLE_SUBDIVISION_SMOOTH
+                                                     : v1::TRIANGLE_SUBDIVISION_CATMARK);
   }
   auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
   grpc::ClientContext context;
@@ -74,9 +99,10 @@ int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
   ProgressBar bar("upload");
   grpc::Status status;
   try {
-    status = uploadObjFile(*stub, context, args.file, options, &mesh, [&](int64_t sent, int64_t total) {
-      bar.update(total > 0 ? double(sent) / double(total) : 1.0, humanBytes(sent));
-    });
+    status =
+        uploadObjFile(*stub, context, args.file, options, &mesh, [&](int64_t sent, int64_t total) {
+          bar.update(total > 0 ? double(sent) / double(total) : 1.0, humanBytes(sent));
+        });
   } catch (const LocalFileError& e) {
     std::cerr << "tessera: " << e.what() << "\n";
     return kExitIo;
@@ -142,19 +168,20 @@ int runInfo(const RemoteEndpoint& endpoint) {
   v1::ServerInfo info;
   grpc::Status status = stub->GetServerInfo(&context, v1::GetServerInfoRequest(), &info);
   if (!status.ok()) return reportRpcError("info", status, &context);
-  std::cout << fmt::format("server        {} (tessera {})\ndevice        {}\nstore         {}\n"
-                           "auth          {}\ntls           {}\ntessellation  {}\n",
-                           endpoint.server, info.version(), info.device(), info.store(),
-                           info.auth_required() ? "bearer token" : "none",
-                           info.tls() ? "yes" : "no",
-                           info.tessellation_available() ? "available" : "not available");
+  std::cout << fmt::format(
+      "server        {} (tessera {})\ndevice        {}\nstore         {}\n"
+      "auth          {}\ntls           {}\ntessellation  {}\n",
+      endpoint.server, info.version(), info.device(), info.store(),
+      info.auth_required() ? "bearer token" : "none", info.tls() ? "yes" : "no",
+      info.tessellation_available() ? "available" : "not available");
   for (const v1::Backend& b : info.backends()) {
     std::cout << fmt::format("backend       {} ({}): {}\n", b.name(),
                              b.available() ? "available" : "unavailable", b.detail());
   }
   const v1::ServerLimits& l = info.limits();
   std::cout << fmt::format(
-      "limits        upload {}, {} vertices, {} faces, face size {}, tolerance >= {:g} x diagonal,\n"
+      "limits        upload {}, {} vertices, {} faces, face size {}, tolerance >= {:g} x "
+      "diagonal,\n"
       "              pixel accuracy >= {:g}, {} triangles, uniform level <= {}, {} pixels,\n"
       "              {} jobs running + {} queued\n",
       humanBytes(l.max_upload_bytes()), l.max_vertices(), l.max_faces(), l.max_face_size(),
@@ -189,13 +216,19 @@ void registerRemoteCommands(CLI::App& app, CommandContext& context) {
   up->add_option("--name", upload->name, "Mesh id (or meshes/ID) to store it under")->required();
   up->add_option("--display-name", upload->displayName, "Free text (default: the file name)");
   up->add_option("--boundary", upload->boundary, "Boundary interpolation (default: the file's)")
-      ->check(CLI::IsMember({"edge-only", "edge-and-corner"}));
+      ->check(CLI::IsMember({"edge-only", "edge-and-corner", "none"}));
+  up->add_option("--crease-method", upload->creaseMethod,
+                 "Semi-sharp crease rule (default: the file's)")
+      ->check(CLI::IsMember({"uniform", "chaikin"}));
+  up->add_option("--triangles", upload->triangles, "Triangle rule (default: the file's)")
+      ->check(CLI::IsMember({"catmark", "smooth"}));
   up->callback([&context, endpoint, upload] { context.exitCode = runUpload(*endpoint, *upload); });
 
   auto pageSize = std::make_shared<int>(100);
   CLI::App* list = app.add_subcommand("list", "List the server's meshes");
   list->add_option("--page-size", *pageSize, "Meshes per request")->capture_default_str();
-  list->callback([&context, endpoint, pageSize] { context.exitCode = runList(*endpoint, *pageSize); });
+  list->callback(
+      [&context, endpoint, pageSize] { context.exitCode = runList(*endpoint, *pageSize); });
 
   auto getName = std::make_shared<std::string>();
   CLI::App* get = app.add_subcommand("get", "Show a stored mesh's metadata");

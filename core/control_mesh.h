@@ -1,5 +1,6 @@
 // The control mesh as a user hands it to Tessera: positions, faces of any size, and the
-// subdivision tags OpenSubdiv understands (creases, corners, holes, boundary interpolation).
+// subdivision tags and rules OpenSubdiv understands (creases, corners, holes; boundary, crease
+// and triangle rules).
 // Plain arrays in, so the OBJ reader, the gRPC upload and tests all build the same thing.
 #pragma once
 
@@ -11,7 +12,8 @@
 
 namespace tessera {
 
-// Sharpness at or above this value is infinitely sharp, as in OpenSubdiv's Sdc (SHARPNESS_INFINITE).
+// Sharpness at or above this value is infinitely sharp, as in OpenSubdiv's Sdc
+// (SHARPNESS_INFINITE).
 inline constexpr float kInfiniteSharpness = 10.0f;
 
 struct CreaseEdge {
@@ -28,6 +30,27 @@ struct CornerVertex {
 enum class BoundaryInterpolation : uint8_t {
   kEdgeOnly,       // boundary edges are infinitely sharp (OpenSubdiv's default)
   kEdgeAndCorner,  // ... and boundary vertices with a single face are corners
+  kNone,           // no surface over faces at a boundary vertex: they only support their neighbours
+};
+
+// Sdc's CreasingMethod: how a semi-sharp edge's sharpness decays at each refinement.
+enum class CreaseMethod : uint8_t {
+  kUniform,  // sharpness − 1 per level (OpenSubdiv's default)
+  kChaikin,  // Chaikin's rule: a child edge's sharpness averages its neighbours' along the crease
+};
+
+// Sdc's TriangleSubdivision: the weights at a triangle's vertices in the first refinement.
+enum class TriangleSubdivision : uint8_t {
+  kCatmark,  // Catmull-Clark's own weights (OpenSubdiv's default)
+  kSmooth,   // Loop-like weights that round triangles off (TRI_SUB_SMOOTH)
+};
+
+// The Sdc options a mesh carries besides its tags (OpenSubdiv's defaults unless the source says).
+struct SubdivisionRules {
+  BoundaryInterpolation boundary = BoundaryInterpolation::kEdgeOnly;
+  CreaseMethod creaseMethod = CreaseMethod::kUniform;
+  TriangleSubdivision triangleSubdivision = TriangleSubdivision::kCatmark;
+  friend bool operator==(const SubdivisionRules&, const SubdivisionRules&) = default;
 };
 
 struct ControlMesh {
@@ -37,7 +60,7 @@ struct ControlMesh {
   std::vector<CreaseEdge> creases;
   std::vector<CornerVertex> corners;
   std::vector<int> holes;  // face indices that are holes (not part of the surface)
-  BoundaryInterpolation boundary = BoundaryInterpolation::kEdgeOnly;
+  SubdivisionRules rules;
 
   int vertexCount() const { return static_cast<int>(positions.size()); }
   int faceCount() const { return static_cast<int>(faceSizes.size()); }

@@ -1,10 +1,10 @@
 #include "core/far_topology.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "core/error.h"
 
@@ -21,14 +21,31 @@ struct RefinedPoint {
   void AddWithWeight(const RefinedPoint& src, double weight) { p += src.p * weight; }
 };
 
+Sdc::Options::VtxBoundaryInterpolation sdcBoundary(BoundaryInterpolation boundary) {
+  switch (boundary) {
+    case BoundaryInterpolation::kEdgeOnly:
+      return Sdc::Options::VTX_BOUNDARY_EDGE_ONLY;
+    case BoundaryInterpolation::kEdgeAndCorner:
+      return Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER;
+    case BoundaryInterpolation::kNone:
+      return Sdc::Options::VTX_BOUNDARY_NONE;
+  }
+  return Sdc::Options::VTX_BOUNDARY_EDGE_ONLY;
+}
+
+// The mesh's rules, as Far and Bfr read them. Chaikin's rule and smooth triangles act only in
+// Far's refinement (docs/ADAPTIVE.md §9); VTX_BOUNDARY_NONE makes Far tag the faces at a
+// boundary vertex as holes.
 Sdc::Options subdivisionOptions(const ControlMesh& mesh) {
   Sdc::Options options;
-  options.SetVtxBoundaryInterpolation(mesh.boundary == BoundaryInterpolation::kEdgeAndCorner
-                                          ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
-                                          : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  options.SetVtxBoundaryInterpolation(sdcBoundary(mesh.rules.boundary));
   options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
-  options.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
-  options.SetTriangleSubdivision(Sdc::Options::TRI_SUB_CATMARK);
+  options.SetCreasingMethod(mesh.rules.creaseMethod == CreaseMethod::kChaikin
+                                ? Sdc::Options::CREASE_CHAIKIN
+                                : Sdc::Options::CREASE_UNIFORM);
+  options.SetTriangleSubdivision(mesh.rules.triangleSubdivision == TriangleSubdivision::kSmooth
+                                     ? Sdc::Options::TRI_SUB_SMOOTH
+                                     : Sdc::Options::TRI_SUB_CATMARK);
   return options;
 }
 
@@ -113,7 +130,8 @@ Far::PatchTableFactory::Options patchTableOptions(int isolation) {
   return options;
 }
 
-void refineAdaptively(Far::TopologyRefiner& refiner, const Far::PatchTableFactory::Options& options) {
+void refineAdaptively(Far::TopologyRefiner& refiner,
+                      const Far::PatchTableFactory::Options& options) {
   auto adaptive = options.GetRefineAdaptiveOptions();
   adaptive.SetSecondaryLevel(2);
   refiner.RefineAdaptive(adaptive);

@@ -3,6 +3,8 @@
 #include <bit>
 #include <cstdint>
 
+#include "core/subdivision_rules.h"
+
 namespace tessera {
 namespace {
 
@@ -57,7 +59,8 @@ class Reader {
   // allocation, so a corrupt count cannot make the decoder reserve terabytes.
   size_t count(size_t recordBytes) {
     uint64_t n = u64();
-    if (n > (in_.size() - pos_) / recordBytes) throw MeshDecodeError("mesh encoding: count too large");
+    if (n > (in_.size() - pos_) / recordBytes)
+      throw MeshDecodeError("mesh encoding: count too large");
     return static_cast<size_t>(n);
   }
   bool atEnd() const { return pos_ == in_.size(); }
@@ -70,19 +73,13 @@ class Reader {
   size_t pos_ = 0;
 };
 
-BoundaryInterpolation boundaryFromCode(uint32_t code) {
-  switch (code) {
-    case 1: return BoundaryInterpolation::kEdgeOnly;
-    case 2: return BoundaryInterpolation::kEdgeAndCorner;
-  }
-  throw MeshDecodeError("mesh encoding: unknown boundary interpolation");
+SubdivisionRules rulesFrom(uint32_t code) {
+  const std::optional<SubdivisionRules> rules = rulesFromCode(code);
+  if (!rules) throw MeshDecodeError("mesh encoding: unknown subdivision rules");
+  return *rules;
 }
 
 }  // namespace
-
-uint32_t boundaryCode(BoundaryInterpolation boundary) {
-  return boundary == BoundaryInterpolation::kEdgeAndCorner ? 2 : 1;
-}
 
 std::string encodeCanonicalMesh(const ControlMesh& mesh) {
   Writer w;
@@ -90,7 +87,7 @@ std::string encodeCanonicalMesh(const ControlMesh& mesh) {
             4 * mesh.faceVertices.size() + 12 * mesh.creases.size() + 8 * mesh.corners.size() +
             4 * mesh.holes.size());
   w.bytes(kMagic);
-  w.u32(boundaryCode(mesh.boundary));
+  w.u32(rulesCode(mesh.rules));
   w.u64(mesh.positions.size());
   for (const Vec3& p : mesh.positions) {
     w.f32(p.x), w.f32(p.y), w.f32(p.z);
@@ -116,7 +113,7 @@ ControlMesh decodeCanonicalMesh(std::string_view bytes) {
   Reader r(bytes);
   if (r.bytes(kMagic.size()) != kMagic) throw MeshDecodeError("mesh encoding: bad magic");
   ControlMesh mesh;
-  mesh.boundary = boundaryFromCode(r.u32());
+  mesh.rules = rulesFrom(r.u32());
   mesh.positions.resize(r.count(12));
   for (Vec3& p : mesh.positions) {
     p.x = r.f32(), p.y = r.f32(), p.z = r.f32();

@@ -17,9 +17,6 @@ class MeshDecodeError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Value of BoundaryInterpolation in the encoding (tessera.v1.BoundaryInterpolation's numbers).
-uint32_t boundaryCode(BoundaryInterpolation boundary);
-
 std::string encodeCanonicalMesh(const ControlMesh& mesh);
 
 // Never reads past bytes, whatever they contain; structural checks only (validateControlMesh ran

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/subdivision_rules.h"
 
 namespace tessera {
 
@@ -37,15 +38,18 @@ void describeControlMesh(const ControlMesh& mesh, MeshReport& report) {
   report.edges = static_cast<int>(edgeFaces.size());
   for (const auto& [edge, faces] : edgeFaces) report.boundaryEdges += faces == 1 ? 1 : 0;
   for (int v : valence) {
-    if (v == 0) ++report.unusedVertices;
-    else ++report.valences[v];
+    if (v == 0)
+      ++report.unusedVertices;
+    else
+      ++report.valences[v];
   }
   report.creases = static_cast<int>(mesh.creases.size());
   for (const auto& c : mesh.creases) report.infiniteCreases += c.sharpness >= kInfiniteSharpness;
   report.corners = static_cast<int>(mesh.corners.size());
   report.holes = static_cast<int>(mesh.holes.size());
-  report.boundaryInterpolation =
-      mesh.boundary == BoundaryInterpolation::kEdgeAndCorner ? "edge-and-corner" : "edge-only";
+  report.boundaryInterpolation = boundaryName(mesh.rules.boundary);
+  report.creaseMethod = creaseMethodName(mesh.rules.creaseMethod);
+  report.triangleSubdivision = triangleSubdivisionName(mesh.rules.triangleSubdivision);
 }
 
 }  // namespace

@@ -12,11 +12,11 @@ namespace tessera {
 
 struct MeshReport {
   int vertices = 0, faces = 0, unusedVertices = 0;
-  std::map<int, int> faceSizes;      // face size -> count
-  std::map<int, int> valences;       // vertex valence (incident edges) -> count
+  std::map<int, int> faceSizes;  // face size -> count
+  std::map<int, int> valences;   // vertex valence (incident edges) -> count
   int edges = 0, boundaryEdges = 0;
   int creases = 0, infiniteCreases = 0, corners = 0, holes = 0;
-  std::string boundaryInterpolation;
+  std::string boundaryInterpolation, creaseMethod, triangleSubdivision;
   // After preprocessing:
   int regularPatches = 0;
   std::map<std::string, std::map<int, int>> ringsByKind;  // kind -> valence -> count

@@ -78,13 +78,13 @@ void applyInterpolateBoundary(const Tag& tag, const SourceLine& at, ControlMesh&
                 "one integer (1/0/0)");
   switch (tag.ints[0]) {
     case 0:
-      failUnsupported(
-          at, "'t interpolateboundary 0' (VTX_BOUNDARY_NONE boundary rule) is not supported");
+      mesh.rules.boundary = BoundaryInterpolation::kNone;
+      return;
     case 1:
-      mesh.boundary = BoundaryInterpolation::kEdgeAndCorner;
+      mesh.rules.boundary = BoundaryInterpolation::kEdgeAndCorner;
       return;
     case 2:
-      mesh.boundary = BoundaryInterpolation::kEdgeOnly;
+      mesh.rules.boundary = BoundaryInterpolation::kEdgeOnly;
       return;
     default:
       failInvalid(at, "'t interpolateboundary' value " + std::to_string(tag.ints[0]) +
@@ -98,27 +98,34 @@ void acceptFaceVaryingBoundary(const Tag& tag, const SourceLine& at) {
                 "one integer (1/0/0)");
 }
 
-void acceptCreaseMethod(const Tag& tag, const SourceLine& at) {
+void applyCreaseMethod(const Tag& tag, const SourceLine& at, ControlMesh& mesh) {
   requireHeader(tag, at, tag.intCount == 0 && tag.floatCount == 0 && tag.stringCount == 1,
                 "one string (0/0/1)");
   const std::string_view method = tag.strings[0];
-  if (method == "normal" || method == "uniform") return;
+  if (method == "normal" || method == "uniform") {
+    mesh.rules.creaseMethod = CreaseMethod::kUniform;
+    return;
+  }
   if (method == "chaikin") {
-    failUnsupported(at, "'t creasemethod chaikin' (Chaikin crease rule) is not supported");
+    mesh.rules.creaseMethod = CreaseMethod::kChaikin;
+    return;
   }
   failInvalid(
       at, "'t creasemethod' value " + quoted(method) + " is not one of normal, uniform or chaikin");
 }
 
 // "catmark" keeps Catmull-Clark's own weights on triangles (Sdc's TRI_SUB_CATMARK default).
-void acceptSmoothTriangles(const Tag& tag, const SourceLine& at) {
+void applySmoothTriangles(const Tag& tag, const SourceLine& at, ControlMesh& mesh) {
   requireHeader(tag, at, tag.intCount == 0 && tag.floatCount == 0 && tag.stringCount == 1,
                 "one string (0/0/1)");
   const std::string_view rule = tag.strings[0];
-  if (rule == "catmark") return;
+  if (rule == "catmark") {
+    mesh.rules.triangleSubdivision = TriangleSubdivision::kCatmark;
+    return;
+  }
   if (rule == "smooth") {
-    failUnsupported(at,
-                    "'t smoothtriangles smooth' (TRI_SUB_SMOOTH triangle rule) is not supported");
+    mesh.rules.triangleSubdivision = TriangleSubdivision::kSmooth;
+    return;
   }
   failInvalid(at, "'t smoothtriangles' value " + quoted(rule) + " is not catmark or smooth");
 }
@@ -219,8 +226,8 @@ void TagReader::apply(LineTokens& tokens, const SourceLine& at, ControlMesh& mes
   if (name == "hole") return applyHole(at, mesh);
   if (name == "interpolateboundary") return applyInterpolateBoundary(tag_, at, mesh);
   if (name == "facevaryinginterpolateboundary") return acceptFaceVaryingBoundary(tag_, at);
-  if (name == "creasemethod") return acceptCreaseMethod(tag_, at);
-  if (name == "smoothtriangles") return acceptSmoothTriangles(tag_, at);
+  if (name == "creasemethod") return applyCreaseMethod(tag_, at, mesh);
+  if (name == "smoothtriangles") return applySmoothTriangles(tag_, at, mesh);
   if (isHierarchicalEdit(name)) {
     failUnsupported(at, named(tag_) + " (hierarchical edit) is not supported");
   }

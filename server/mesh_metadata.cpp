@@ -1,11 +1,16 @@
 #include "server/mesh_metadata.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+
+#include "core/subdivision_rules.h"
+#include "server/mesh_store.h"
 
 namespace tessera::server {
 
 void describeMesh(const ControlMesh& mesh, MeshMetadata& metadata) {
-  metadata.boundary = mesh.boundary;
+  metadata.rules = mesh.rules;
   metadata.vertexCount = mesh.vertexCount();
   metadata.faceCount = mesh.faceCount();
   metadata.faceVertexCount = static_cast<int64_t>(mesh.faceVertices.size());
@@ -18,11 +23,20 @@ void describeMesh(const ControlMesh& mesh, MeshMetadata& metadata) {
   }
   Vec3d lo(mesh.positions.front()), hi(mesh.positions.front());
   for (const Vec3& p : mesh.positions) {
-    lo = Vec3d(std::min<double>(lo.x, p.x), std::min<double>(lo.y, p.y), std::min<double>(lo.z, p.z));
-    hi = Vec3d(std::max<double>(hi.x, p.x), std::max<double>(hi.y, p.y), std::max<double>(hi.z, p.z));
+    lo = Vec3d(std::min<double>(lo.x, p.x), std::min<double>(lo.y, p.y),
+               std::min<double>(lo.z, p.z));
+    hi = Vec3d(std::max<double>(hi.x, p.x), std::max<double>(hi.y, p.y),
+               std::max<double>(hi.z, p.z));
   }
   metadata.boundsMin = lo;
   metadata.boundsMax = hi;
+}
+
+SubdivisionRules rulesFromColumn(int64_t code, const std::string& id) {
+  const std::optional<SubdivisionRules> rules =
+      code >= 0 && code <= UINT32_MAX ? rulesFromCode(uint32_t(code)) : std::nullopt;
+  if (!rules) throw StoreError(fmt::format("mesh {}: unknown subdivision rules code {}", id, code));
+  return *rules;
 }
 
 }  // namespace tessera::server

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/mesh_codec.h"
+#include "core/subdivision_rules.h"
 #include "server/mesh_names.h"
 #include "server/status_error.h"
 
@@ -53,8 +54,14 @@ void toProto(const MeshMetadata& m, v1::Mesh* out) {
   out->set_source_format(static_cast<v1::MeshFormat>(m.sourceFormat));
   out->set_source_bytes(m.sourceBytes);
   out->mutable_options()->set_boundary_interpolation(
-      static_cast<v1::BoundaryInterpolation>(boundaryCode(m.boundary)));
-  out->mutable_options()->set_crease_method(v1::CREASE_METHOD_UNIFORM);
+      static_cast<v1::BoundaryInterpolation>(boundaryCode(m.rules.boundary)));
+  out->mutable_options()->set_crease_method(m.rules.creaseMethod == CreaseMethod::kChaikin
+                                                ? v1::CREASE_METHOD_CHAIKIN
+                                                : v1::CREASE_METHOD_UNIFORM);
+  out->mutable_options()->set_triangle_subdivision(m.rules.triangleSubdivision ==
+                                                           TriangleSubdivision::kSmooth
+                                                       ? v1::TRIANGLE_SUBDIVISION_SMOOTH
+                                                       : v1::TRIANGLE_SUBDIVISION_CATMARK);
   out->set_vertex_count(m.vertexCount);
   out->set_face_count(m.faceCount);
   out->set_face_vertex_count(m.faceVertexCount);
@@ -65,7 +72,8 @@ void toProto(const MeshMetadata& m, v1::Mesh* out) {
   toProto(m.boundsMax, out->mutable_bounding_box()->mutable_max());
   out->set_sha256(m.sha256);
   out->mutable_create_time()->set_seconds(m.createTimeMicros / 1'000'000);
-  out->mutable_create_time()->set_nanos(static_cast<int32_t>(m.createTimeMicros % 1'000'000) * 1000);
+  out->mutable_create_time()->set_nanos(static_cast<int32_t>(m.createTimeMicros % 1'000'000) *
+                                        1000);
   out->set_stored_bytes(m.storedBytes);
 }
 
@@ -111,7 +119,8 @@ bool forEachArraysChunk(const ControlMesh& mesh, size_t maxBytes,
                     const Vec3& p = mesh.positions[i];
                     chunk.add_positions(p.x), chunk.add_positions(p.y), chunk.add_positions(p.z);
                   }) &&
-         sendRuns(mesh.faceSizes.size(), [&](size_t i) { chunk.add_face_sizes(mesh.faceSizes[i]); }) &&
+         sendRuns(mesh.faceSizes.size(),
+                  [&](size_t i) { chunk.add_face_sizes(mesh.faceSizes[i]); }) &&
          sendRuns(mesh.faceVertices.size(),
                   [&](size_t i) { chunk.add_face_vertices(mesh.faceVertices[i]); }) &&
          sendRuns(mesh.creases.size(),

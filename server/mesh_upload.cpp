@@ -24,31 +24,48 @@ constexpr int64_t kCreaseBytes = 12;
 constexpr int64_t kCornerBytes = 8;
 
 int64_t arraysBytes(const v1::MeshArrays& a) {
-  return kScalarBytes * (a.positions_size() + a.face_sizes_size() + a.face_vertices_size() +
-                         a.holes_size()) +
+  return kScalarBytes *
+             (a.positions_size() + a.face_sizes_size() + a.face_vertices_size() + a.holes_size()) +
          kCreaseBytes * a.creases_size() + kCornerBytes * a.corners_size();
 }
 
 std::optional<BoundaryInterpolation> boundaryFromProto(int value) {
   switch (value) {
-    case v1::BOUNDARY_INTERPOLATION_UNSPECIFIED: return std::nullopt;
-    case v1::BOUNDARY_INTERPOLATION_EDGE_ONLY: return BoundaryInterpolation::kEdgeOnly;
-    case v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER: return BoundaryInterpolation::kEdgeAndCorner;
+    case v1::BOUNDARY_INTERPOLATION_UNSPECIFIED:
+      return std::nullopt;
+    case v1::BOUNDARY_INTERPOLATION_EDGE_ONLY:
+      return BoundaryInterpolation::kEdgeOnly;
+    case v1::BOUNDARY_INTERPOLATION_EDGE_AND_CORNER:
+      return BoundaryInterpolation::kEdgeAndCorner;
+    case v1::BOUNDARY_INTERPOLATION_NONE:
+      return BoundaryInterpolation::kNone;
   }
   throwInvalidArgument(
       fmt::format("header.options.boundary_interpolation: unknown value {}", value));
 }
 
-void checkCreaseMethod(int value) {
+std::optional<CreaseMethod> creaseMethodFromProto(int value) {
   switch (value) {
     case v1::CREASE_METHOD_UNSPECIFIED:
-    case v1::CREASE_METHOD_UNIFORM: return;
+      return std::nullopt;
+    case v1::CREASE_METHOD_UNIFORM:
+      return CreaseMethod::kUniform;
     case v1::CREASE_METHOD_CHAIKIN:
-      // DESIGN.md: features the paper leaves out are refused, never silently ignored.
-      throwStatus(grpc::StatusCode::UNIMPLEMENTED,
-                  "header.options.crease_method: CREASE_METHOD_CHAIKIN is not supported yet");
+      return CreaseMethod::kChaikin;
   }
   throwInvalidArgument(fmt::format("header.options.crease_method: unknown value {}", value));
+}
+
+std::optional<TriangleSubdivision> triangleSubdivisionFromProto(int value) {
+  switch (value) {
+    case v1::TRIANGLE_SUBDIVISION_UNSPECIFIED:
+      return std::nullopt;
+    case v1::TRIANGLE_SUBDIVISION_CATMARK:
+      return TriangleSubdivision::kCatmark;
+    case v1::TRIANGLE_SUBDIVISION_SMOOTH:
+      return TriangleSubdivision::kSmooth;
+  }
+  throwInvalidArgument(fmt::format("header.options.triangle_subdivision: unknown value {}", value));
 }
 
 // core/ messages say what is wrong inside the mesh; the prefix says which upload part it is in.
@@ -67,8 +84,8 @@ void UploadAssembler::accept(const v1::UploadMeshRequest& message) {
   if (index == 0) return acceptHeader(message.header());
   switch (message.payload_case()) {
     case v1::UploadMeshRequest::kHeader:
-      throwInvalidArgument(fmt::format(
-          "UploadMeshRequest #{}: the header was already sent in message #0", index));
+      throwInvalidArgument(
+          fmt::format("UploadMeshRequest #{}: the header was already sent in message #0", index));
     case v1::UploadMeshRequest::kObjData:
       if (metadata_.sourceFormat != SourceFormat::kObj) {
         throwInvalidArgument(fmt::format(
@@ -99,21 +116,26 @@ void UploadAssembler::acceptHeader(const v1::UploadMeshHeader& header) {
   }
   metadata_.displayName = header.display_name().empty() ? header.mesh_id() : header.display_name();
   switch (header.format()) {
-    case v1::MESH_FORMAT_ARRAYS: metadata_.sourceFormat = SourceFormat::kArrays; break;
-    case v1::MESH_FORMAT_OBJ: metadata_.sourceFormat = SourceFormat::kObj; break;
+    case v1::MESH_FORMAT_ARRAYS:
+      metadata_.sourceFormat = SourceFormat::kArrays;
+      break;
+    case v1::MESH_FORMAT_OBJ:
+      metadata_.sourceFormat = SourceFormat::kObj;
+      break;
     default:
       throwInvalidArgument("header.format: must be MESH_FORMAT_ARRAYS or MESH_FORMAT_OBJ");
   }
   boundary_ = boundaryFromProto(header.options().boundary_interpolation());
-  checkCreaseMethod(header.options().crease_method());
+  creaseMethod_ = creaseMethodFromProto(header.options().crease_method());
+  triangleSubdivision_ = triangleSubdivisionFromProto(header.options().triangle_subdivision());
   if (header.total_bytes() <= 0) {
-    throwInvalidArgument(fmt::format("header.total_bytes: must be positive (got {})",
-                                     header.total_bytes()));
+    throwInvalidArgument(
+        fmt::format("header.total_bytes: must be positive (got {})", header.total_bytes()));
   }
   if (header.total_bytes() > limits_.maxUploadBytes) {
-    throwResourceExhausted(fmt::format(
-        "header.total_bytes: {} bytes exceeds the server's max_upload_bytes of {}",
-        header.total_bytes(), limits_.maxUploadBytes));
+    throwResourceExhausted(
+        fmt::format("header.total_bytes: {} bytes exceeds the server's max_upload_bytes of {}",
+                    header.total_bytes(), limits_.maxUploadBytes));
   }
   // Arrays are counted in 4-byte units (kScalarBytes; creases 12, corners 8): no arrays upload
   // can add up to any other size.
@@ -141,7 +163,8 @@ void UploadAssembler::acceptArrays(const v1::MeshArrays& a) {
   arrays_.faceSizes.insert(arrays_.faceSizes.end(), a.face_sizes().begin(), a.face_sizes().end());
   arrays_.faceVertices.insert(arrays_.faceVertices.end(), a.face_vertices().begin(),
                               a.face_vertices().end());
-  for (const v1::Crease& c : a.creases()) arrays_.creases.push_back({c.v0(), c.v1(), c.sharpness()});
+  for (const v1::Crease& c : a.creases())
+    arrays_.creases.push_back({c.v0(), c.v1(), c.sharpness()});
   for (const v1::Corner& c : a.corners()) arrays_.corners.push_back({c.vertex(), c.sharpness()});
   arrays_.holes.insert(arrays_.holes.end(), a.holes().begin(), a.holes().end());
 }
@@ -149,13 +172,12 @@ void UploadAssembler::acceptArrays(const v1::MeshArrays& a) {
 AssembledUpload UploadAssembler::finish() {
   if (!hasHeader()) throwInvalidArgument("UploadMesh: the stream ended before the header");
   if (received_ != declaredBytes_) {
-    throwInvalidArgument(fmt::format(
-        "UploadMesh: upload truncated: received {} of the {} bytes declared in "
-        "header.total_bytes",
-        received_, declaredBytes_));
+    throwInvalidArgument(
+        fmt::format("UploadMesh: upload truncated: received {} of the {} bytes declared in "
+                    "header.total_bytes",
+                    received_, declaredBytes_));
   }
-  ControlMesh mesh =
-      metadata_.sourceFormat == SourceFormat::kObj ? parseObj() : buildFromArrays();
+  ControlMesh mesh = metadata_.sourceFormat == SourceFormat::kObj ? parseObj() : buildFromArrays();
   const std::string where = metadata_.sourceFormat == SourceFormat::kObj
                                 ? metadata_.displayName + ": "
                                 : std::string("arrays: ");
@@ -175,8 +197,7 @@ AssembledUpload UploadAssembler::finish() {
 ControlMesh UploadAssembler::buildFromArrays() {
   if (positions_.size() % 3 != 0) {
     throwInvalidArgument(fmt::format(
-        "arrays.positions: {} floats is not a whole number of x, y, z triples",
-        positions_.size()));
+        "arrays.positions: {} floats is not a whole number of x, y, z triples", positions_.size()));
   }
   ControlMesh mesh = std::move(arrays_);
   mesh.positions.resize(positions_.size() / 3);
@@ -184,15 +205,22 @@ ControlMesh UploadAssembler::buildFromArrays() {
     mesh.positions[i] = Vec3(positions_[3 * i], positions_[3 * i + 1], positions_[3 * i + 2]);
   }
   positions_ = {};
-  mesh.boundary = boundary_.value_or(BoundaryInterpolation::kEdgeOnly);
+  overrideRules(mesh);
   return mesh;
 }
 
 ControlMesh UploadAssembler::parseObj() {
   ControlMesh mesh = readObj(obj_, metadata_.displayName, limits_.mesh);
   obj_ = {};
-  if (boundary_) mesh.boundary = *boundary_;
+  overrideRules(mesh);
   return mesh;
+}
+
+// Rules the header names replace the source's (an OBJ's tags; OpenSubdiv's defaults for arrays).
+void UploadAssembler::overrideRules(ControlMesh& mesh) const {
+  if (boundary_) mesh.rules.boundary = *boundary_;
+  if (creaseMethod_) mesh.rules.creaseMethod = *creaseMethod_;
+  if (triangleSubdivision_) mesh.rules.triangleSubdivision = *triangleSubdivision_;
 }
 
 }  // namespace tessera::server

@@ -55,10 +55,14 @@ class UploadAssembler {
   void countBytes(int64_t bytes);
   ControlMesh buildFromArrays();
   ControlMesh parseObj();
+  void overrideRules(ControlMesh& mesh) const;
 
   UploadLimits limits_;
   MeshMetadata metadata_;
-  std::optional<BoundaryInterpolation> boundary_;  // unset: the format's default
+  // Unset: the source's (the OBJ's tags, or OpenSubdiv's defaults for arrays).
+  std::optional<BoundaryInterpolation> boundary_;
+  std::optional<CreaseMethod> creaseMethod_;
+  std::optional<TriangleSubdivision> triangleSubdivision_;
   int64_t declaredBytes_ = 0;
   int64_t received_ = 0;
   int64_t messages_ = 0;

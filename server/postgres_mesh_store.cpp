@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <utility>
 
+#include "core/subdivision_rules.h"
 #include "server/store_schema.h"
 
 namespace tessera::server {
@@ -116,8 +117,7 @@ MeshMetadata readMetadata(const PGresult* r, int row) {
   m.displayName = textAt(r, row, 1);
   m.sourceFormat = static_cast<SourceFormat>(integerAt(r, row, 2));
   m.sourceBytes = integerAt(r, row, 3);
-  m.boundary = integerAt(r, row, 4) == 2 ? BoundaryInterpolation::kEdgeAndCorner
-                                         : BoundaryInterpolation::kEdgeOnly;
+  m.rules = rulesFromColumn(integerAt(r, row, 4), m.id);
   m.vertexCount = integerAt(r, row, 5);
   m.faceCount = integerAt(r, row, 6);
   m.faceVertexCount = integerAt(r, row, 7);
@@ -138,7 +138,7 @@ Params metadataParams(const MeshMetadata& m) {
   p.text(m.displayName);
   p.integer(static_cast<int64_t>(m.sourceFormat));
   p.integer(m.sourceBytes);
-  p.integer(m.boundary == BoundaryInterpolation::kEdgeAndCorner ? 2 : 1);
+  p.integer(rulesCode(m.rules));
   p.integer(m.vertexCount), p.integer(m.faceCount), p.integer(m.faceVertexCount);
   p.integer(m.creaseCount), p.integer(m.cornerCount), p.integer(m.holeCount);
   p.real(m.boundsMin.x), p.real(m.boundsMin.y), p.real(m.boundsMin.z);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <sqlite3.h>
 
+#include "core/subdivision_rules.h"
 #include "server/store_schema.h"
 
 namespace tessera::server {
@@ -63,8 +64,7 @@ MeshMetadata readMetadata(const Statement& s) {
   m.displayName = s.text(1);
   m.sourceFormat = static_cast<SourceFormat>(s.integer(2));
   m.sourceBytes = s.integer(3);
-  m.boundary = s.integer(4) == 2 ? BoundaryInterpolation::kEdgeAndCorner
-                                 : BoundaryInterpolation::kEdgeOnly;
+  m.rules = rulesFromColumn(s.integer(4), m.id);
   m.vertexCount = s.integer(5);
   m.faceCount = s.integer(6);
   m.faceVertexCount = s.integer(7);
@@ -84,7 +84,7 @@ void bindMetadata(Statement& s, const MeshMetadata& m) {
   s.bind(2, m.displayName);
   s.bind(3, static_cast<int64_t>(m.sourceFormat));
   s.bind(4, m.sourceBytes);
-  s.bind(5, static_cast<int64_t>(m.boundary == BoundaryInterpolation::kEdgeAndCorner ? 2 : 1));
+  s.bind(5, static_cast<int64_t>(rulesCode(m.rules)));
   s.bind(6, m.vertexCount);
   s.bind(7, m.faceCount);
   s.bind(8, m.faceVertexCount);

@@ -45,7 +45,7 @@ ControlMesh flatGrid(int n) {
       mesh.faceVertices.insert(mesh.faceVertices.end(), {v, v + 1, v + n + 2, v + n + 1});
     }
   }
-  mesh.boundary = BoundaryInterpolation::kEdgeAndCorner;
+  mesh.rules.boundary = BoundaryInterpolation::kEdgeAndCorner;
   return mesh;
 }
 

@@ -30,12 +30,6 @@ struct RefusedShape {
 };
 
 const RefusedShape kRefusedShapes[] = {
-    {"opensubdiv-shapes/catmark_chaikin2.obj", ErrorKind::kUnsupported, "t creasemethod",
-     "'t creasemethod chaikin' (Chaikin crease rule) is not supported"},
-    {"opensubdiv-shapes/catmark_edgenone.obj", ErrorKind::kUnsupported, "t interpolateboundary",
-     "'t interpolateboundary 0'"},
-    {"opensubdiv-shapes/catmark_smoothtris1.obj", ErrorKind::kUnsupported, "t smoothtriangles",
-     "'t smoothtriangles smooth'"},
     {"opensubdiv-shapes/catmark_square_hedit0.obj", ErrorKind::kUnsupported, "t vertexedit",
      "'t vertexedit' (hierarchical edit)"},
     {"opensubdiv-shapes/catmark_square_hedit1.obj", ErrorKind::kUnsupported, "t vertexedit",
@@ -152,16 +146,16 @@ TEST(ObjReader, RefusedShapesNameTheTagAndItsLine) {
 
 TEST(ObjReader, InterpolateBoundaryFollowsOpenSubdivShapeNumbering) {
   const std::string shapes = modelsDir() + "/opensubdiv-shapes/";
-  EXPECT_EQ(readObjFile(shapes + "catmark_edgecorner.obj").boundary,
+  EXPECT_EQ(readObjFile(shapes + "catmark_edgecorner.obj").rules.boundary,
             BoundaryInterpolation::kEdgeAndCorner);
-  EXPECT_EQ(readObjFile(shapes + "catmark_dart_edgecorner.obj").boundary,
+  EXPECT_EQ(readObjFile(shapes + "catmark_dart_edgecorner.obj").rules.boundary,
             BoundaryInterpolation::kEdgeAndCorner);
-  EXPECT_EQ(readObjFile(shapes + "catmark_edgeonly.obj").boundary,
+  EXPECT_EQ(readObjFile(shapes + "catmark_edgeonly.obj").rules.boundary,
             BoundaryInterpolation::kEdgeOnly);
-  EXPECT_EQ(readObjFile(shapes + "catmark_cube.obj").boundary, BoundaryInterpolation::kEdgeOnly);
-  EXPECT_EQ(readObj(std::string(kSquare) + "t interpolateboundary 1/0/0 1\n", "s").boundary,
+  EXPECT_EQ(readObjFile(shapes + "catmark_cube.obj").rules.boundary, BoundaryInterpolation::kEdgeOnly);
+  EXPECT_EQ(readObj(std::string(kSquare) + "t interpolateboundary 1/0/0 1\n", "s").rules.boundary,
             BoundaryInterpolation::kEdgeAndCorner);
-  EXPECT_EQ(readObj(std::string(kSquare) + "t interpolateboundary 1/0/0 2\n", "s").boundary,
+  EXPECT_EQ(readObj(std::string(kSquare) + "t interpolateboundary 1/0/0 2\n", "s").rules.boundary,
             BoundaryInterpolation::kEdgeOnly);
 }
 
@@ -277,7 +271,7 @@ TEST(ObjReader, TagsThatKeepTheSurfaceAreAccepted) {
     SCOPED_TRACE(tag);
     const ControlMesh mesh = readObj(std::string(kSquare) + tag + "\n", "kept.obj");
     EXPECT_EQ(mesh.faceCount(), 1);
-    EXPECT_EQ(mesh.boundary, BoundaryInterpolation::kEdgeOnly);
+    EXPECT_EQ(mesh.rules, SubdivisionRules{});
   }
 }
 

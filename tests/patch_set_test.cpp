@@ -26,9 +26,6 @@ struct Refusal {
   const char* mentions;
 };
 const std::map<std::string, Refusal> kRefusedShapes = {
-    {"catmark_chaikin2", {ErrorKind::kUnsupported, "Chaikin"}},
-    {"catmark_edgenone", {ErrorKind::kUnsupported, "VTX_BOUNDARY_NONE"}},
-    {"catmark_smoothtris1", {ErrorKind::kUnsupported, "smoothtriangles"}},
     {"catmark_square_hedit0", {ErrorKind::kUnsupported, "hierarchical"}},
     {"catmark_square_hedit1", {ErrorKind::kUnsupported, "hierarchical"}},
     {"catmark_square_hedit2", {ErrorKind::kUnsupported, "hierarchical"}},

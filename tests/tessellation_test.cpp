@@ -27,6 +27,7 @@
 #include "tests/support/far_patch_reference.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/limit_distance.h"
+#include "tests/support/limit_surface.h"
 #include "tests/support/models.h"
 
 namespace tessera {
@@ -119,8 +120,7 @@ EdgeCheck checkEdges(const TriangleMesh& mesh, const ControlMesh& control) {
   // Base edges with one face that is not a hole (the input's boundary, holes included).
   std::map<std::pair<int, int>, int> baseEdges;
   FaceTopology faces(control.faceSizes, control.faceVertices);
-  std::vector<bool> hole(control.faceCount(), false);
-  for (int h : control.holes) hole[h] = true;
+  const std::vector<bool> hole = testing::facesWithoutSurface(control);
   for (int f = 0; f < control.faceCount(); ++f) {
     if (hole[f]) continue;
     for (int k = 0; k < faces.size(f); ++k) {
@@ -159,7 +159,8 @@ bool hasBoundary(const ControlMesh& mesh) {
   for (const auto& [edge, count] : edges) {
     if (count == 1) return true;
   }
-  return !mesh.holes.empty();
+  const std::vector<bool> hole = testing::facesWithoutSurface(mesh);
+  return std::find(hole.begin(), hole.end(), true) != hole.end();
 }
 
 // The adaptive path (η > 0) bounds the geometric distance (docs/ADAPTIVE.md §3a: a tile may be
@@ -232,6 +233,31 @@ TEST(Tessellation, OpenSubdivShapesStayWithinToleranceAndAreWatertight) {
       continue;  // refused shapes are covered by PatchSet.OpenSubdivShapes...
     }
     expectModel(path);
+  }
+}
+
+// Chaikin creases, smooth triangles and VTX_BOUNDARY_NONE change the limit surface by more than
+// the tolerance (the default rules' mesh is measured far from it), and the mesh made under the
+// file's rules is within it: the rules reach the surface Tessera tessellates, not only the reader.
+TEST(Tessellation, CreaseTriangleAndBoundaryRulesShapeTheSurface) {
+  constexpr double kRelative = 1e-3;
+  for (const char* name : {"catmark_chaikin2", "catmark_smoothtris1", "catmark_edgenone"}) {
+    SCOPED_TRACE(name);
+    const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/" + name + ".obj");
+    ControlMesh byDefault = mesh;
+    byDefault.rules = SubdivisionRules{};
+    ASSERT_NE(mesh.rules, byDefault.rules);
+    const testing::LimitSurface surface(mesh);
+    const PatchSet set = buildPatchSet(mesh);
+    const double epsilon = kRelative * diagonalOf(set);
+    const double followed =
+        measureLimitDistance(surface, testing::viewOf(tessellateAt(mesh, set, kRelative, 0.5).mesh)).twoSided();
+    const double ignored =
+        measureLimitDistance(surface, testing::viewOf(tessellateAt(byDefault, buildPatchSet(byDefault), kRelative, 0.5).mesh))
+            .twoSided();
+    std::printf("%-20s rules followed %.3g, default rules %.3g (eps %.3g)\n", name, followed, ignored, epsilon);
+    EXPECT_LE(followed, epsilon * (1 + testing::LimitSurface::kRelativeAccuracy / kRelative));
+    EXPECT_GT(ignored, 2 * epsilon);
   }
 }
 

@@ -29,10 +29,10 @@ struct Case {
 class BadInputCatalogue : public ::testing::Test {
  protected:
   void SetUp() override {
-    server_ = ServerProcess::start(
-        dir_.path(), {"--store", "sqlite:" + (dir_.path() / "m.db").string(), "--token", kToken,
-                      "--max-upload-bytes", "2MiB", "--max-faces", "2000", "--max-triangles",
-                      "1000000"});
+    server_ =
+        ServerProcess::start(dir_.path(), {"--store", "sqlite:" + (dir_.path() / "m.db").string(),
+                                           "--token", kToken, "--max-upload-bytes", "2MiB",
+                                           "--max-faces", "2000", "--max-triangles", "1000000"});
     ASSERT_TRUE(server_);
     meshes_ = v1::MeshService::NewStub(server_->channel());
     tessellation_ = v1::TessellationService::NewStub(server_->channel());
@@ -64,8 +64,9 @@ class BadInputCatalogue : public ::testing::Test {
   std::vector<v1::UploadMeshRequest> arraysWith(const MeshArrays& mesh) {
     return arraysUpload("bad-mesh", mesh);
   }
-  std::vector<v1::UploadMeshRequest> withHeader(std::vector<v1::UploadMeshRequest> messages,
-                                                const std::function<void(v1::UploadMeshHeader&)>& edit) {
+  std::vector<v1::UploadMeshRequest> withHeader(
+      std::vector<v1::UploadMeshRequest> messages,
+      const std::function<void(v1::UploadMeshHeader&)>& edit) {
     edit(*messages.front().mutable_header());
     return messages;
   }
@@ -157,9 +158,11 @@ class BadInputCatalogue : public ::testing::Test {
       // Nothing of the server's insides reaches a client: no file or folder of it, no library's
       // own words, no source or exception text.
       for (const std::string& internal :
-           {dir_.path().string(), std::string("sqlite"), std::string("postgresql:"), std::string("libpq"),
-            std::string(".cpp"), std::string("std::"), std::string("what()"), std::string("OpenSubdiv::")}) {
-        EXPECT_EQ(status.error_message().find(internal), std::string::npos) << "message: " << status.error_message();
+           {dir_.path().string(), std::string("sqlite"), std::string("postgresql:"),
+            std::string("libpq"), std::string(".cpp"), std::string("std::"), std::string("what()"),
+            std::string("OpenSubdiv::")}) {
+        EXPECT_EQ(status.error_message().find(internal), std::string::npos)
+            << "message: " << status.error_message();
       }
     }
   }
@@ -196,7 +199,8 @@ std::vector<v1::UploadMeshRequest> objMessages(const std::string& text) {
 MeshArrays nonManifoldFan() {
   // Three quads on the edge (0, 1): an edge shared by more than two faces.
   MeshArrays m;
-  for (int i = 0; i < 8; ++i) m.positions.insert(m.positions.end(), {float(i), float(i % 3), float(i % 2)});
+  for (int i = 0; i < 8; ++i)
+    m.positions.insert(m.positions.end(), {float(i), float(i % 3), float(i % 2)});
   m.faceSizes = {4, 4, 4};
   m.faceVertices = {0, 1, 2, 3, 1, 0, 4, 5, 0, 1, 6, 7};
   return m;
@@ -209,7 +213,8 @@ MeshArrays creasedEverywhere(MeshArrays m) {
   size_t start = 0;
   for (int32_t size : m.faceSizes) {
     for (int32_t k = 0; k < size; ++k) {
-      const int32_t a = m.faceVertices[start + size_t(k)], b = m.faceVertices[start + size_t((k + 1) % size)];
+      const int32_t a = m.faceVertices[start + size_t(k)],
+                    b = m.faceVertices[start + size_t((k + 1) % size)];
       edges.insert({std::min(a, b), std::max(a, b)});
     }
     start += size_t(size);
@@ -245,22 +250,24 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
        [&] { return uploadStatus(arraysUpload("-dash", good)); }},
       {"unspecified format", grpc::StatusCode::INVALID_ARGUMENT, "header.format",
        [&] {
-         return uploadStatus(withHeader(arraysWith(good), [](auto& h) {
-           h.set_format(v1::MESH_FORMAT_UNSPECIFIED);
-         }));
+         return uploadStatus(withHeader(
+             arraysWith(good), [](auto& h) { h.set_format(v1::MESH_FORMAT_UNSPECIFIED); }));
        }},
-      {"zero total_bytes", grpc::StatusCode::INVALID_ARGUMENT, "header.total_bytes: must be positive",
-       [&] { return uploadStatus(withHeader(arraysWith(good), [](auto& h) { h.set_total_bytes(0); })); }},
+      {"zero total_bytes", grpc::StatusCode::INVALID_ARGUMENT,
+       "header.total_bytes: must be positive",
+       [&] {
+         return uploadStatus(withHeader(arraysWith(good), [](auto& h) { h.set_total_bytes(0); }));
+       }},
       {"oversized upload", grpc::StatusCode::RESOURCE_EXHAUSTED, "max_upload_bytes of 2097152",
        [&] {
-         return uploadStatus(withHeader(arraysWith(good), [](auto& h) { h.set_total_bytes(3 << 20); }));
+         return uploadStatus(
+             withHeader(arraysWith(good), [](auto& h) { h.set_total_bytes(3 << 20); }));
        }},
       {"truncated stream (declared size larger than sent)", grpc::StatusCode::INVALID_ARGUMENT,
        "upload truncated: received",
        [&] {
-         return uploadStatus(withHeader(arraysWith(good), [&](auto& h) {
-           h.set_total_bytes(good.uploadBytes() + 100);
-         }));
+         return uploadStatus(withHeader(
+             arraysWith(good), [&](auto& h) { h.set_total_bytes(good.uploadBytes() + 100); }));
        }},
       {"an ARRAYS size no numbers add up to", grpc::StatusCode::INVALID_ARGUMENT,
        "header.total_bytes: 102 is not a multiple of 4",
@@ -273,11 +280,11 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
          huge.set_obj_data(std::string(4'500'000, '#'));
          return uploadStatus({headerMessage("bad-obj", v1::MESH_FORMAT_OBJ, 2 << 20), huge});
        }},
-      {"more data than declared", grpc::StatusCode::INVALID_ARGUMENT, "runs past header.total_bytes",
+      {"more data than declared", grpc::StatusCode::INVALID_ARGUMENT,
+       "runs past header.total_bytes",
        [&] {
-         return uploadStatus(withHeader(arraysWith(good), [&](auto& h) {
-           h.set_total_bytes(good.uploadBytes() - 4);
-         }));
+         return uploadStatus(withHeader(
+             arraysWith(good), [&](auto& h) { h.set_total_bytes(good.uploadBytes() - 4); }));
        }},
       {"OBJ bytes in an ARRAYS upload", grpc::StatusCode::INVALID_ARGUMENT,
        "obj_data in an upload whose header.format is ARRAYS",
@@ -292,7 +299,8 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
          messages.insert(messages.begin() + 1, v1::UploadMeshRequest());
          return uploadStatus(messages);
        }},
-      {"positions not in triples", grpc::StatusCode::INVALID_ARGUMENT, "arrays.positions: 49 floats",
+      {"positions not in triples", grpc::StatusCode::INVALID_ARGUMENT,
+       "arrays.positions: 49 floats",
        [&] {
          MeshArrays m = good;
          m.positions.push_back(1.0f);
@@ -335,30 +343,37 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
        [&] { return uploadStatus(objMessages("v 0 0 0\nv 1 0 0\nv 1 zero 0\nf 1 2 3\n")); }},
       {"OBJ face with an unknown vertex", grpc::StatusCode::INVALID_ARGUMENT, "bad.obj:4:",
        [&] { return uploadStatus(objMessages("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 9\n")); }},
-      {"Chaikin creases", grpc::StatusCode::UNIMPLEMENTED, "crease_method: CREASE_METHOD_CHAIKIN",
+      {"unknown crease method", grpc::StatusCode::INVALID_ARGUMENT,
+       "header.options.crease_method: unknown value 5",
        [&] {
          return uploadStatus(withHeader(arraysWith(good), [](auto& h) {
-           h.mutable_options()->set_crease_method(v1::CREASE_METHOD_CHAIKIN);
+           h.mutable_options()->set_crease_method(static_cast<v1::CreaseMethod>(5));
+         }));
+       }},
+      {"unknown triangle rule", grpc::StatusCode::INVALID_ARGUMENT,
+       "header.options.triangle_subdivision: unknown value 9",
+       [&] {
+         return uploadStatus(withHeader(arraysWith(good), [](auto& h) {
+           h.mutable_options()->set_triangle_subdivision(static_cast<v1::TriangleSubdivision>(9));
          }));
        }},
       {"unknown boundary interpolation", grpc::StatusCode::INVALID_ARGUMENT,
        "header.options.boundary_interpolation: unknown value 7",
        [&] {
          return uploadStatus(withHeader(arraysWith(good), [](auto& h) {
-           h.mutable_options()->set_boundary_interpolation(static_cast<v1::BoundaryInterpolation>(7));
+           h.mutable_options()->set_boundary_interpolation(
+               static_cast<v1::BoundaryInterpolation>(7));
          }));
        }},
       {"display name too long", grpc::StatusCode::INVALID_ARGUMENT, "header.display_name",
        [&] {
-         return uploadStatus(withHeader(arraysWith(good), [](auto& h) {
-           h.set_display_name(std::string(300, 'x'));
-         }));
+         return uploadStatus(withHeader(
+             arraysWith(good), [](auto& h) { h.set_display_name(std::string(300, 'x')); }));
        }},
-      {"non-manifold mesh", grpc::StatusCode::UNIMPLEMENTED, "arrays: ",
-       [&] { return uploadStatus(arraysWith(nonManifoldFan())); }},
+      {"non-manifold mesh", grpc::StatusCode::UNIMPLEMENTED,
+       "arrays: ", [&] { return uploadStatus(arraysWith(nonManifoldFan())); }},
       {"more faces than the server allows", grpc::StatusCode::RESOURCE_EXHAUSTED,
-       "faces; the limit is 2000",
-       [&] { return uploadStatus(arraysWith(gridMesh(50, 0))); }},
+       "faces; the limit is 2000", [&] { return uploadStatus(arraysWith(gridMesh(50, 0))); }},
       {"creases that would refine it into gigabytes", grpc::StatusCode::RESOURCE_EXHAUSTED,
        "over the limit of 4000000 (max_refined_vertices)",
        [&] { return uploadStatus(arraysWith(creasedEverywhere(gridMesh(20, 0)))); }},
@@ -388,10 +403,10 @@ TEST_F(BadInputCatalogue, NamesPagesAndAuthenticationAreChecked) {
        [&] { return get("meshes/nope"); }},
       {"delete unknown mesh", grpc::StatusCode::NOT_FOUND, "meshes/nope not found",
        [&] { return remove("meshes/nope"); }},
-      {"delete malformed name", grpc::StatusCode::INVALID_ARGUMENT, "name:",
-       [&] { return remove("meshes/"); }},
-      {"download malformed name", grpc::StatusCode::INVALID_ARGUMENT, "name:",
-       [&] { return download("meshes/"); }},
+      {"delete malformed name", grpc::StatusCode::INVALID_ARGUMENT,
+       "name:", [&] { return remove("meshes/"); }},
+      {"download malformed name", grpc::StatusCode::INVALID_ARGUMENT,
+       "name:", [&] { return download("meshes/"); }},
       {"download unknown mesh", grpc::StatusCode::NOT_FOUND, "not found",
        [&] { return download("meshes/ghost"); }},
       {"negative page size", grpc::StatusCode::INVALID_ARGUMENT, "page_size",
@@ -417,8 +432,8 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
   std::vector<Case> cases = {
       {"unknown mesh", grpc::StatusCode::NOT_FOUND, "meshes/ghost not found",
        [&] { return tessellateWith([](auto& r) { r.set_name("meshes/ghost"); }); }},
-      {"malformed name", grpc::StatusCode::INVALID_ARGUMENT, "name:",
-       [&] { return tessellateWith([](auto& r) { r.set_name("ghost"); }); }},
+      {"malformed name", grpc::StatusCode::INVALID_ARGUMENT,
+       "name:", [&] { return tessellateWith([](auto& r) { r.set_name("ghost"); }); }},
       {"no tolerance", grpc::StatusCode::INVALID_ARGUMENT, "tolerance: one of",
        [&] { return tessellateWith([](auto& r) { r.clear_tolerance(); }); }},
       {"zero tolerance", grpc::StatusCode::INVALID_ARGUMENT, "absolute: must be positive",
@@ -433,7 +448,8 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
        "larger than the mesh's bounding-box diagonal",
        [&] { return tessellateWith([](auto& r) { r.set_absolute(1e30); }); }},
       {"relative tolerance of the whole diagonal", grpc::StatusCode::INVALID_ARGUMENT,
-       "relative: must be below 1", [&] { return tessellateWith([](auto& r) { r.set_relative(1); }); }},
+       "relative: must be below 1",
+       [&] { return tessellateWith([](auto& r) { r.set_relative(1); }); }},
       {"NaN relative tolerance", grpc::StatusCode::INVALID_ARGUMENT, "relative: must be a finite",
        [&] { return tessellateWith([](auto& r) { r.set_relative(kNaN); }); }},
       {"tolerance below the server's minimum", grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -453,8 +469,12 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
        [&] { return tessellateWith([](auto& r) { r.set_encoding(v1::GlbEncoding(7)); }); }},
       {"quantized positions too coarse for the tolerance", grpc::StatusCode::INVALID_ARGUMENT,
        "quantized positions move vertices",
-       [&] { return tessellateWith([](auto& r) { r.set_relative(1e-5), r.set_encoding(v1::GLB_ENCODING_QUANTIZED); }); }},
-      {"negative max_triangles", grpc::StatusCode::INVALID_ARGUMENT, "max_triangles: must not be negative",
+       [&] {
+         return tessellateWith(
+             [](auto& r) { r.set_relative(1e-5), r.set_encoding(v1::GLB_ENCODING_QUANTIZED); });
+       }},
+      {"negative max_triangles", grpc::StatusCode::INVALID_ARGUMENT,
+       "max_triangles: must not be negative",
        [&] { return tessellateWith([](auto& r) { r.set_max_triangles(-5); }); }},
       {"max_triangles over the budget", grpc::StatusCode::RESOURCE_EXHAUSTED,
        "exceeds the server's max_triangles of 1000000",
@@ -462,7 +482,9 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
       {"camera missing", grpc::StatusCode::INVALID_ARGUMENT, "pixel.camera: is required",
        [&] { return tessellateWith([](auto& r) { r.mutable_pixel(); }); }},
       {"eye equals target", grpc::StatusCode::INVALID_ARGUMENT, "eye and target must be distinct",
-       [&] { return tessellateWithCamera([](auto& p) { p.mutable_camera()->mutable_eye()->set_z(0); }); }},
+       [&] {
+         return tessellateWithCamera([](auto& p) { p.mutable_camera()->mutable_eye()->set_z(0); });
+       }},
       {"up parallel to the view", grpc::StatusCode::INVALID_ARGUMENT, "pixel.camera.up",
        [&] {
          return tessellateWithCamera([](auto& p) {
@@ -471,16 +493,25 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
          });
        }},
       {"field of view of 180 degrees", grpc::StatusCode::INVALID_ARGUMENT, "fov_y_deg",
-       [&] { return tessellateWithCamera([](auto& p) { p.mutable_camera()->set_fov_y_deg(180); }); }},
-      {"viewport too wide", grpc::StatusCode::INVALID_ARGUMENT, "pixel.camera.width: must be in [1, 16384]",
+       [&] {
+         return tessellateWithCamera([](auto& p) { p.mutable_camera()->set_fov_y_deg(180); });
+       }},
+      {"viewport too wide", grpc::StatusCode::INVALID_ARGUMENT,
+       "pixel.camera.width: must be in [1, 16384]",
        [&] { return tessellateWithCamera([](auto& p) { p.mutable_camera()->set_width(20000); }); }},
       {"zero width", grpc::StatusCode::INVALID_ARGUMENT, "pixel.camera.width",
        [&] { return tessellateWithCamera([](auto& p) { p.mutable_camera()->set_width(0); }); }},
-      {"NaN eye", grpc::StatusCode::INVALID_ARGUMENT, "pixel.camera.eye: coordinates must be finite",
-       [&] { return tessellateWithCamera([](auto& p) { p.mutable_camera()->mutable_eye()->set_x(kNaN); }); }},
-      {"zero pixel accuracy", grpc::StatusCode::INVALID_ARGUMENT, "pixel_accuracy: must be positive",
+      {"NaN eye", grpc::StatusCode::INVALID_ARGUMENT,
+       "pixel.camera.eye: coordinates must be finite",
+       [&] {
+         return tessellateWithCamera(
+             [](auto& p) { p.mutable_camera()->mutable_eye()->set_x(kNaN); });
+       }},
+      {"zero pixel accuracy", grpc::StatusCode::INVALID_ARGUMENT,
+       "pixel_accuracy: must be positive",
        [&] { return tessellateWithCamera([](auto& p) { p.set_pixel_accuracy(0); }); }},
-      {"a valid request", validCode(), validMessage(), [&] { return tessellateWith([](auto&) {}); }},
+      {"a valid request", validCode(), validMessage(),
+       [&] { return tessellateWith([](auto&) {}); }},
       {"a uniform level without a tolerance", validCode(), validMessage(),
        [&] {
          return tessellateWith([](auto& r) {
@@ -536,8 +567,10 @@ TEST_F(BadInputCatalogue, UnparsableRequestsAreInvalidArgumentsNamingTheMethod) 
       {"a name that is not UTF-8", std::string("\x0a\x02\xc3\x28", 4)},
   };
   for (const auto& [what, bytes] : requests) {
-    const grpc::Status status = rawUnaryCall(server_->channel(), "/tessera.v1.MeshService/GetMesh", bytes, kToken);
-    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << what << ": " << status.error_message();
+    const grpc::Status status =
+        rawUnaryCall(server_->channel(), "/tessera.v1.MeshService/GetMesh", bytes, kToken);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT)
+        << what << ": " << status.error_message();
     EXPECT_NE(status.error_message().find("/tessera.v1.MeshService/GetMesh"), std::string::npos)
         << what << ": " << status.error_message();
   }

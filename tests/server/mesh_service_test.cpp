@@ -88,6 +88,47 @@ TEST_P(MeshServiceTest, CreasesCornersAndHolesRoundTrip) {
   EXPECT_EQ(downloadMesh(*stub, "tagged", &status), mesh);
 }
 
+// Rules come from the OBJ's tags unless the header names them; the checksum covers them, packed as
+// mesh.proto documents (boundary | Chaikin << 8 | smooth triangles << 16).
+TEST_P(MeshServiceTest, SubdivisionRulesComeFromTheFileOrTheHeaderAndAreStored) {
+  auto server = startServer();
+  ASSERT_TRUE(server);
+  auto stub = v1::MeshService::NewStub(server->channel());
+  const std::string chaikin = readFile(modelPath("opensubdiv-shapes/catmark_chaikin2.obj"));
+  UploadResult fromFile = uploadMessages(*stub, objUpload("chaikin", chaikin));
+  ASSERT_TRUE(fromFile.status.ok()) << fromFile.status.error_message();
+  EXPECT_EQ(fromFile.mesh.options().crease_method(), v1::CREASE_METHOD_CHAIKIN);
+  EXPECT_EQ(fromFile.mesh.options().triangle_subdivision(), v1::TRIANGLE_SUBDIVISION_CATMARK);
+  EXPECT_EQ(fromFile.mesh.options().boundary_interpolation(), v1::BOUNDARY_INTERPOLATION_EDGE_ONLY);
+
+  std::vector<v1::UploadMeshRequest> uniform = objUpload("chaikin-as-uniform", chaikin);
+  uniform[0].mutable_header()->mutable_options()->set_crease_method(v1::CREASE_METHOD_UNIFORM);
+  UploadResult overridden = uploadMessages(*stub, uniform);
+  ASSERT_TRUE(overridden.status.ok()) << overridden.status.error_message();
+  EXPECT_EQ(overridden.mesh.options().crease_method(), v1::CREASE_METHOD_UNIFORM);
+  EXPECT_NE(overridden.mesh.sha256(), fromFile.mesh.sha256());
+
+  const MeshArrays mesh = gridMesh(4, 2);  // its inner 2 x 2 faces keep a surface under NONE
+  std::vector<v1::UploadMeshRequest> arrays = arraysUpload("all-rules", mesh);
+  v1::SubdivisionOptions* options = arrays[0].mutable_header()->mutable_options();
+  options->set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_NONE);
+  options->set_crease_method(v1::CREASE_METHOD_CHAIKIN);
+  options->set_triangle_subdivision(v1::TRIANGLE_SUBDIVISION_SMOOTH);
+  UploadResult all = uploadMessages(*stub, arrays);
+  ASSERT_TRUE(all.status.ok()) << all.status.error_message();
+  EXPECT_EQ(all.mesh.sha256(), sha256Hex(canonicalEncoding(mesh, 3 | 1 << 8 | 1 << 16)));
+
+  grpc::ClientContext context;
+  prepare(context);
+  v1::GetMeshRequest request;
+  request.set_name("meshes/all-rules");
+  v1::Mesh got;
+  ASSERT_TRUE(stub->GetMesh(&context, request, &got).ok());
+  EXPECT_EQ(got.options().boundary_interpolation(), v1::BOUNDARY_INTERPOLATION_NONE);
+  EXPECT_EQ(got.options().crease_method(), v1::CREASE_METHOD_CHAIKIN);
+  EXPECT_EQ(got.options().triangle_subdivision(), v1::TRIANGLE_SUBDIVISION_SMOOTH);
+}
+
 TEST_P(MeshServiceTest, GetReturnsWhatUploadReturned) {
   auto server = startServer();
   ASSERT_TRUE(server);

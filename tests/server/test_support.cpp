@@ -221,9 +221,9 @@ MeshArrays gridMesh(int n, int seed) {
   return mesh;
 }
 
-std::string canonicalEncoding(const MeshArrays& m, uint32_t boundary) {
+std::string canonicalEncoding(const MeshArrays& m, uint32_t rules) {
   std::string out = "TSM1";
-  appendLe(out, boundary, 4);
+  appendLe(out, rules, 4);
   appendLe(out, m.vertexCount(), 8);
   for (float f : m.positions) appendLe(out, std::bit_cast<uint32_t>(f), 4);
   appendLe(out, m.faceSizes.size(), 8);

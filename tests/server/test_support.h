@@ -88,8 +88,8 @@ MeshArrays parseObjVerticesAndFaces(const std::string& text);
 // An n x n grid of quads whose heights depend on seed, so that meshes differ in content.
 MeshArrays gridMesh(int n, int seed);
 
-// The canonical encoding exactly as tessera.v1.Mesh.sha256 documents it, boundary = 1 or 2.
-std::string canonicalEncoding(const MeshArrays& mesh, uint32_t boundary = 1);
+// The canonical encoding exactly as tessera.v1.Mesh.sha256 documents it, with its rules number.
+std::string canonicalEncoding(const MeshArrays& mesh, uint32_t rules = 1);
 std::string sha256Hex(const std::string& bytes);
 
 // Adds the bearer token (if any) and a deadline of `seconds` to context.

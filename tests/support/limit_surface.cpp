@@ -1,11 +1,11 @@
 #include "tests/support/limit_surface.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
-
-#include <tbb/parallel_for.h>
 
 namespace tessera::testing {
 
@@ -40,6 +40,13 @@ bool hasInteriorValence2(const ControlMesh& mesh) {
   return hasInteriorValence2(createTopologyRefiner(mesh)->GetLevel(0));
 }
 
+std::vector<bool> facesWithoutSurface(const ControlMesh& mesh) {
+  const std::unique_ptr<Far::TopologyRefiner> refiner = createTopologyRefiner(mesh);
+  std::vector<bool> hole(mesh.faceCount());
+  for (int f = 0; f < mesh.faceCount(); ++f) hole[f] = refiner->GetLevel(0).IsFaceHole(f);
+  return hole;
+}
+
 LimitSurface::LimitSurface(const ControlMesh& mesh)
     : LimitSurface(mesh, hasInteriorValence2(mesh) ? Backend::kFar : Backend::kBfr) {}
 
@@ -47,8 +54,7 @@ LimitSurface::LimitSurface(const ControlMesh& mesh, Backend backend)
     : backend_(backend),
       diagonal_(boundingBoxDiagonal(mesh.positions)),
       refiner_(createTopologyRefiner(mesh)) {
-  std::vector<bool> hole(mesh.faceCount(), false);
-  for (int h : mesh.holes) hole[h] = true;
+  const std::vector<bool> hole = facesWithoutSurface(mesh);
   firstDomain_.assign(mesh.faceCount(), -1);
   for (int f = 0; f < mesh.faceCount(); ++f) {
     if (hole[f]) continue;

@@ -13,11 +13,11 @@
 // use Far's patch table instead (FarPatchReference, isolation level 10).
 #pragma once
 
-#include <memory>
-#include <vector>
-
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
+
+#include <memory>
+#include <vector>
 
 #include "core/control_mesh.h"
 #include "core/far_topology.h"
@@ -32,6 +32,10 @@ struct LimitDomain {
 
 // True when some vertex has exactly two edges and is not on a boundary.
 bool hasInteriorValence2(const ControlMesh& mesh);
+
+// Per base face, whether it has no limit surface: its hole tag, or Far's tag for a face at a
+// boundary vertex under VTX_BOUNDARY_NONE.
+std::vector<bool> facesWithoutSurface(const ControlMesh& mesh);
 
 class LimitSurface {
  public:
