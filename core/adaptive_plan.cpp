@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/adaptive_surface.h"
+#include "core/edge_curvature.h"
 #include "core/tolerance_model.h"
 
 namespace tessera {
@@ -21,6 +22,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // rule (split when the quadrants need at most 85 % of the triangles), on the nine benchmark
 // models at 1e-2..1e-4 this gives 0.8 % fewer triangles summed in 12 % less time.
 constexpr int64_t kSplitSaving = 8;
+
 // How far below a leaf piece de Casteljau may split it, and the deepest tile level at all
 // (tile coordinates stay exact integers).
 constexpr int kMaxSplitBelowLeaf = 16;
@@ -128,6 +130,9 @@ class Planner {
     double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
     uint8_t diagonal = 0;  // the diagonal pair and bows need (SurfaceNode::pairDiagonal)
     bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
+    bool onePiece = false;  // the square lies in one bicubic piece (a leaf or below one)
+    bool edgesKnown = false;  // below a leaf, `edges` is computed when a grid may use it
+    EdgeCurvature edges;      // below a leaf: §2a's data of the net (leaves keep theirs in the tree)
     float lo[3], hi[3];
     double pairWithBows() const { return pair + *std::max_element(bows, bows + 4); }
     double size() const { return exp2i(-level); }
@@ -139,6 +144,7 @@ class Planner {
   void split(const Candidate& c, Candidate children[4]) const;
   Rates gridFor(Candidate& c) const;
   bool pairMayServe(Candidate& c, double epsilon) const;
+  Rates edgeGridFor(Candidate& c, const Rates& curvatureRates, double epsilon) const;
   Rates evGridFor(const NodeSquare& n, double epsilon, int minRate) const;
   bool touchesPinchedCorner(const Candidate& c) const;
   double evTileBound(const NodeSquare& n, int ru, int rv) const;
@@ -170,6 +176,7 @@ Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
   c.pair = node.pairBound;
   std::copy(node.sideBow, node.sideBow + 4, c.bows);
   c.diagonal = node.pairDiagonal;
+  c.onePiece = node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
   return c;
@@ -186,6 +193,7 @@ Planner::Candidate Planner::quadrantCandidate(const Candidate& parent, const Bez
   c.standIn = 0;
   c.gm = c.m;
   c.pairKnown = false;
+  c.onePiece = true;
   for (int a = 0; a < 3; ++a) {
     double lo = c.net[0][a], hi = lo;
     for (const Vec3d& p : c.net) lo = std::min(lo, p[a]), hi = std::max(hi, p[a]);
@@ -308,6 +316,27 @@ bool Planner::pairMayServe(Candidate& c, double epsilon) const {
   return c.pair <= epsilon;
 }
 
+// docs/ADAPTIVE.md §2a on a square inside one piece: starting from §2's rates, the fewest cells
+// §2's form allows for ε scaled by how much tighter §2a is at the rates so far (the two forms
+// scale alike with the cells), kept only where §2a's bound holds.
+Rates Planner::edgeGridFor(Candidate& c, const Rates& curvatureRates, double epsilon) const {
+  if (c.below && !c.edgesKnown) {
+    c.edges = edgeCurvature(c.net);
+    c.edgesKnown = true;
+  }
+  const EdgeCurvature& edges = c.below ? c.edges : tree_.edgeCurvature[c.real.node];
+  Rates best = curvatureRates, at = curvatureRates;
+  for (int step = 0; step < 3; ++step) {
+    const double tighter = gridTileBound(edges, at.ru, at.rv);
+    if (tighter <= epsilon && at.triangles() < best.triangles()) best = {at.ru, at.rv, std::min(tighter, at.bound)};
+    if (!(tighter < at.bound)) break;
+    const Rates next = ratesFor(c.m, c.size(), epsilon * (at.bound / tighter), 2);
+    if (!next.feasible() || (next.ru == at.ru && next.rv == at.rv)) break;
+    at = next;
+  }
+  return best;
+}
+
 Rates Planner::gridFor(Candidate& c) const {
   const double epsilon = epsilonOf(c);
   const int minRate = touchesPinchedCorner(c) ? 2 : 1;
@@ -328,7 +357,10 @@ Rates Planner::gridFor(Candidate& c) const {
   if (!c.below && tree_.nodes[c.real.node].evCorners) {
     consider(evGridFor(c.real, epsilon, minRate));
   } else {
-    consider(ratesFor(c.m, c.size(), epsilon, minRate));
+    const Rates curvature = ratesFor(c.m, c.size(), epsilon, minRate);
+    // §2a needs at least 2 × 2 cells: only a grid of more can get fewer.
+    const bool tighter = c.onePiece && curvature.feasible() && curvature.ru * curvature.rv > 4;
+    consider(tighter ? edgeGridFor(c, curvature, epsilon) : curvature);
   }
   if (c.standIn > 0 && epsilon > 2 * c.standIn) {
     Rates r = ratesFor(c.gm, c.size(), epsilon - 2 * c.standIn, minRate);

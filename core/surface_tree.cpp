@@ -332,6 +332,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
   SurfaceNode& self = tree_.nodes[index];
   if (self.kind == NodeKind::kRegularLeaf || self.kind == NodeKind::kFasLeaf) {
     NodeFit fit = summarizeLeaf(self, level);
+    tree_.edgeCurvature[index] = edgeCurvature(fit.g);
     for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
     setStandIn(tree_.nodes[index], fit, level);
     tightenLeafPair(tree_.nodes[index], fit.g);
@@ -388,6 +389,7 @@ SurfaceTree TreeBuilder::build() {
     fill(slot, 0, 0, 0, items[root]);
   }
   corners_.resize(tree_.nodes.size());
+  tree_.edgeCurvature.resize(tree_.nodes.size());
   pair_.assign(tree_.nodes.size(), 0);
   bow_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   pairReparam_.assign(tree_.nodes.size(), 0);
@@ -410,7 +412,7 @@ SurfaceTree TreeBuilder::build() {
 
 size_t SurfaceTree::bytes() const {
   return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
-         nodes.size() * sizeof(SurfaceNode) + fasLeaves.size() * sizeof(FasLeaf) +
+         nodes.size() * sizeof(SurfaceNode) + edgeCurvature.size() * sizeof(EdgeCurvature) + fasLeaves.size() * sizeof(FasLeaf) +
          evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + refinedOffsets.size() * sizeof(size_t) +
          refinedLevels.size() * sizeof(float);
 }

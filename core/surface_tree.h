@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/bezier_net.h"
+#include "core/edge_curvature.h"
 #include "core/patch_set.h"
 
 namespace tessera {
@@ -86,6 +87,9 @@ struct SurfaceTree {
   std::vector<SurfaceRoot> roots;  // in Far's ptex order
   std::vector<int> faceFirstRoot;  // base face → its first root
   std::vector<SurfaceNode> nodes;
+  // Per node, for regular and FAS leaves (one bicubic piece each): docs/ADAPTIVE.md §2a's data of
+  // the piece over its square; default for other nodes.
+  std::vector<EdgeCurvature> edgeCurvature;
   std::vector<FasLeaf> fasLeaves;
   std::vector<EvBottom> evBottoms;
   // Each ring refined through its chain: FAS level j ≥ 1 of ring r is its refined (12n+1) set,

@@ -14,6 +14,7 @@
 #include "core/domain_keys.h"
 #include "core/obj_reader.h"
 #include "core/patch_set.h"
+#include "core/surface_evaluation.h"
 #include "core/tessellate.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/limit_distance.h"
@@ -286,6 +287,65 @@ TEST(AdaptiveTessellation, PairBoundIsGeometric) {
   EXPECT_GT(tighterOnOnePiece, 0);
   std::printf("rook: %d roots (%d with extraordinary vertices, %d single pieces) whose pair is farther from the "
               "surface at equal parameters than its bound\n", tighterThanParametric, tighterAtEvs, tighterOnOnePiece);
+}
+
+// Grid tiles and strips claim their bound at equal parameters (docs/ADAPTIVE.md §2, §2a, §4, §5):
+// every triangle of such a tile, as a map of its root's parameters, is within the tile's bound of
+// OpenSubdiv Bfr's limit surface at the same parameters. On these models some tiles inside one
+// piece take §2a's bound, below what §2's form gives for their rates.
+TEST(AdaptiveTessellation, GridTilesAreWithinTheirBoundAtEqualParameters) {
+  constexpr int kSteps = 6;
+  int tighterThanCurvature = 0;
+  size_t checkedTriangles = 0;
+  for (const std::string& name : {std::string("opensubdiv-shapes/catmark_torus_creases0"), std::string("bigguy"),
+                                  std::string("opensubdiv-shapes/catmark_rook")}) {
+    SCOPED_TRACE(name);
+    const ControlMesh mesh = readObjFile(testing::modelsDir() + "/" + name + ".obj");
+    const PatchSet set = buildPatchSet(mesh);
+    const testing::LimitSurface surface(mesh);
+    const SurfaceTree& tree = set.adaptive->tree;
+    TessellationOptions options;
+    options.tolerance = 1e-3;
+    options.relativeTolerance = true;
+    const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
+    const TriangleMesh out = tessellateAdaptive(set, *set.adaptive, layout, true);
+    // Float positions and Bfr's own accuracy.
+    const double slack = (testing::LimitSurface::kRelativeAccuracy + 1e-6) * surface.diagonal();
+    for (size_t t = 0; t < out.triangleCount(); ++t) {
+      const Tile& tile = layout.plan.tiles[out.trianglePiece[t]];
+      if (tile.cellwise || tile.ru * tile.rv < 2) continue;
+      const int domain = surface.domainOf(out.triangleFace[t], out.triangleSubFace[t]);
+      const double* st = &out.triangleST[6 * t];
+      const Vec3d p[3] = {Vec3d(out.positions[out.indices[3 * t]]), Vec3d(out.positions[out.indices[3 * t + 1]]),
+                          Vec3d(out.positions[out.indices[3 * t + 2]])};
+      double worst = 0;
+      for (int i = 0; i <= kSteps; ++i) {
+        for (int j = 0; i + j <= kSteps; ++j) {
+          const double l0 = double(i) / kSteps, l1 = double(j) / kSteps, l2 = 1 - l0 - l1;
+          Vec3d f;
+          surface.evaluate(domain, l0 * st[0] + l1 * st[2] + l2 * st[4], l0 * st[1] + l1 * st[3] + l2 * st[5], f);
+          worst = std::max(worst, length(f - (p[0] * l0 + p[1] * l1 + p[2] * l2)));
+        }
+      }
+      ASSERT_LE(worst, tile.bound + slack) << "triangle " << t << " of a " << tile.ru << " x " << tile.rv << " tile";
+      ++checkedTriangles;
+    }
+    for (const Tile& tile : layout.plan.tiles) {
+      const SurfaceNode& node = tree.nodes[tile.node.node];
+      if (tile.ru < 2 || tile.rv < 2 || tile.cellwise) continue;
+      if (node.kind != NodeKind::kRegularLeaf && node.kind != NodeKind::kFasLeaf) continue;
+      BezierNet net = pieceNet(tree, set, tile.node.node);
+      for (int level = tile.node.level; level < tile.level; ++level) {
+        const int d = tile.level - level - 1;
+        net = quadrantNet(net, int((tile.ix >> d) & 1), int((tile.iy >> d) & 1));
+      }
+      tighterThanCurvature += tile.bound < 0.95 * interpolationBound(netCurvature(net.data()), 1.0 / tile.ru, 1.0 / tile.rv);
+    }
+  }
+  EXPECT_GT(checkedTriangles, 10000u);
+  EXPECT_GT(tighterThanCurvature, 0);
+  std::printf("%zu triangles of grid tiles within their bound; %d tiles under 0.95 of §2's form\n", checkedTriangles,
+              tighterThanCurvature);
 }
 
 // A coarse request is answered from coarse nodes: it must not touch every fine piece, so it costs

@@ -11,6 +11,8 @@
 //    the parameterization's in-plane distortion;
 //  - §2's FMM86 form with the second derivatives' sup sampled instead of hull bounds (the hull's
 //    share of the slack);
+//  - for tiles inside one piece, §2a's bound (core/edge_curvature.h) at the tile's rates over §2's
+//    (both from the piece's net: the share §2a takes off, or adds);
 //  - a directional form (sampled, an estimate, not a bound): for a triangle in a w × h box with
 //    one edge along u or v, the variance identity Σ λ_k q(x_k) − q(x) = Σ_{j<k} λ_j λ_k q(x_j − x_k)
 //    for the quadratic q = ½ D²f gives ½ max_λ Σ_{j<k} λ_j λ_k |D²f[e_jk, e_jk]|, with
@@ -25,6 +27,7 @@
 
 #include "core/adaptive_surface.h"
 #include "core/adaptive_tessellator.h"
+#include "core/edge_curvature.h"
 #include "core/obj_reader.h"
 #include "core/surface_evaluation.h"
 #include "tests/support/triangle_bvh.h"  // closestPointOnTriangle
@@ -37,7 +40,22 @@ constexpr int kShapeSamples = 16;   // intervals a tile side is sampled at for s
 
 struct TileFigures {
   double bound, measured, equalParameter, sampledForm, directionalForm;
+  double edgeOverCurvature = -1;  // §2a / §2 from the net, for tiles inside one piece
 };
+
+// §2a's bound over §2's at the tile's rates, from the net of the tile's square; -1 for a tile
+// that is not inside one piece.
+double edgeOverCurvature(const SurfaceTree& tree, const PatchSet& patches, const Tile& tile) {
+  const SurfaceNode& node = tree.nodes[tile.node.node];
+  if (node.kind != NodeKind::kRegularLeaf && node.kind != NodeKind::kFasLeaf) return -1;
+  BezierNet net = pieceNet(tree, patches, tile.node.node);
+  for (int level = tile.node.level; level < tile.level; ++level) {
+    const int d = tile.level - level - 1;
+    net = quadrantNet(net, int((tile.ix >> d) & 1), int((tile.iy >> d) & 1));
+  }
+  return gridTileBound(edgeCurvature(net), tile.ru, tile.rv) /
+         interpolationBound(netCurvature(net.data()), 1.0 / tile.ru, 1.0 / tile.rv);
+}
 
 // Where in its root a point of the tile at (a, b) ∈ [0, 1]² lies.
 struct TileFrame {
@@ -177,6 +195,7 @@ int run(const char* path, double relative) {
       f.equalParameter = std::min(equalParameterDistance(evaluator, frame, tile, 0),
                                   equalParameterDistance(evaluator, frame, tile, 1));
       sampledForms(evaluator, frame, tile, f.sampledForm, f.directionalForm);
+      if (tile.ru >= 2 && tile.rv >= 2) f.edgeOverCurvature = edgeOverCurvature(tree, patches, tile);
       figures.push_back(f);
       triangles += 2L * tile.ru * tile.rv;
     }
@@ -196,6 +215,14 @@ int run(const char* path, double relative) {
   row("equal-parameter distance / measured", [](const TileFigures& f) { return f.equalParameter / f.measured; });
   row("FMM86 form, sampled derivatives / measured", [](const TileFigures& f) { return f.sampledForm / f.measured; });
   row("directional form, sampled / measured", [](const TileFigures& f) { return f.directionalForm / f.measured; });
+  std::vector<TileFigures> onePiece;
+  for (const TileFigures& f : figures) {
+    if (f.edgeOverCurvature > 0) onePiece.push_back(f);
+  }
+  if (!onePiece.empty()) {
+    figures.swap(onePiece);
+    row("sec. 2a / sec. 2 at the tile's rates, one piece", [](const TileFigures& f) { return f.edgeOverCurvature; });
+  }
   return 0;
 }
 
