@@ -21,16 +21,19 @@ size_t AdaptiveSurface::bytes() const {
 namespace {
 
 // Every vertex on the limit surface, on all cores: positions once per point, then the copies that
-// carry another side's normal take their original's position bit for bit.
+// carry another side's normal take their original's position bit for bit. Where each vertex lies
+// (face, sub-face, (u, v), its point) only when asked: tests and tools read it, a GLB does not.
 void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
-                      const Stitching& stitching, const std::vector<uint32_t>& tileRoot, TriangleMesh& mesh,
-                      const std::function<void()>& checkpoint) {
+                      const Stitching& stitching, const std::vector<uint32_t>& tileRoot, bool record,
+                      TriangleMesh& mesh, const std::function<void()>& checkpoint) {
   const size_t count = stitching.vertices.size();
   mesh.positions.resize(count);
   mesh.normals.resize(count);
-  mesh.vertexFace.resize(count);
-  mesh.vertexSubFace.resize(count);
-  mesh.vertexUv.resize(2 * count);
+  if (record) {
+    mesh.vertexFace.resize(count);
+    mesh.vertexSubFace.resize(count);
+    mesh.vertexUv.resize(2 * count);
+  }
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& range) {
@@ -41,21 +44,23 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
       const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
       mesh.positions[i] = Vec3(sample.position);
       mesh.normals[i] = Vec3(sample.normal);
+      if (!record) continue;
       const SurfaceRoot& root = surface.tree.roots[tileRoot[request.tile]];
       mesh.vertexFace[i] = root.baseFace;
       mesh.vertexSubFace[i] = root.subFace;
       mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
     }
   });
-  mesh.vertexPoint.resize(count);
+  if (record) mesh.vertexPoint.resize(count);
   for (size_t i = 0; i < count; ++i) {
-    mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
+    if (record) mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
     if (stitching.vertices[i].positionOf != i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
   }
 }
 
-// Tiles triangulated on all cores in runs, the runs' triangles concatenated in order.
-void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, TriangleMesh& mesh,
+// Tiles triangulated on all cores in runs, the runs' triangles concatenated in order (with each
+// triangle's tile when `record`).
+void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool record, TriangleMesh& mesh,
                       const std::function<void()>& checkpoint) {
   constexpr size_t kRun = 256;
   const size_t runs = (plan.tiles.size() + kRun - 1) / kRun;
@@ -67,7 +72,7 @@ void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, Tria
     for (size_t t = r * kRun; t < end; ++t) {
       const size_t before = indices[r].size();
       triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, indices[r]);
-      tiles[r].insert(tiles[r].end(), (indices[r].size() - before) / 3, uint32_t(t));
+      if (record) tiles[r].insert(tiles[r].end(), (indices[r].size() - before) / 3, uint32_t(t));
     }
   });
   for (size_t r = 0; r < runs; ++r) {
@@ -146,13 +151,16 @@ void splitFoldNormals(TriangleMesh& mesh) {
     const uint32_t* i = &mesh.indices[corner - corner % 3];
     return Vec3d(cross(mesh.positions[i[1]] - mesh.positions[i[0]], mesh.positions[i[2]] - mesh.positions[i[0]]));
   };
-  auto copyVertex = [&mesh](uint32_t v, const Vec3d& normal) {
+  const bool record = !mesh.vertexPoint.empty();
+  auto copyVertex = [&mesh, record](uint32_t v, const Vec3d& normal) {
     mesh.positions.push_back(mesh.positions[v]);
     mesh.normals.push_back(Vec3(normal * (1 / length(normal))));
-    mesh.vertexFace.push_back(mesh.vertexFace[v]);
-    mesh.vertexSubFace.push_back(mesh.vertexSubFace[v]);
-    mesh.vertexUv.insert(mesh.vertexUv.end(), {mesh.vertexUv[2 * v], mesh.vertexUv[2 * v + 1]});
-    mesh.vertexPoint.push_back(mesh.vertexPoint[v]);
+    if (record) {
+      mesh.vertexFace.push_back(mesh.vertexFace[v]);
+      mesh.vertexSubFace.push_back(mesh.vertexSubFace[v]);
+      mesh.vertexUv.insert(mesh.vertexUv.end(), {mesh.vertexUv[2 * v], mesh.vertexUv[2 * v + 1]});
+      mesh.vertexPoint.push_back(mesh.vertexPoint[v]);
+    }
     return uint32_t(mesh.positions.size() - 1);
   };
   for (size_t first = 0; first < flagged.size();) {
@@ -305,8 +313,8 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
     std::fill(tileRoot.begin() + plan.rootFirstTile[r], tileRoot.begin() + plan.rootFirstTile[r + 1], uint32_t(r));
   }
   TriangleMesh mesh;
-  evaluateVertices(patches, surface, plan, stitching, tileRoot, mesh, checkpoint);
-  triangulateTiles(plan, stitching, mesh, checkpoint);
+  evaluateVertices(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, checkpoint);
+  triangulateTiles(plan, stitching, recordParameters, mesh, checkpoint);
   if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
   splitFoldNormals(mesh);
   return mesh;

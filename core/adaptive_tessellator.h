@@ -25,8 +25,9 @@ struct AdaptiveLayout {
 AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& surface,
                               const TessellationOptions& options);
 
-// trianglePiece holds each triangle's tile; vertexFace/vertexSubFace/vertexUv where each vertex
-// was evaluated; with recordParameters, each triangle's root and its corners' (u, v) there.
+// With recordParameters (tests, tools; a GLB needs none of it): trianglePiece holds each
+// triangle's tile, vertexFace/vertexSubFace/vertexUv where each vertex was evaluated, vertexPoint
+// the vertex each copy repeats, and each triangle's root and its corners' (u, v) there.
 TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptiveLayout& layout,
                                 bool recordParameters = false, const std::function<void()>& checkpoint = {});
 

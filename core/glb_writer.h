@@ -24,19 +24,19 @@ GlbEncoding parseGlbEncoding(const std::string& name);
 
 // What asset.extras states about the mesh.
 struct GlbDescription {
-  std::string sourceName;    // the control mesh (its id, or its file's stem); names node and mesh
-  std::string sourceSha256;  // of its canonical encoding (core/mesh_codec.h); empty: unknown
-  std::optional<double> tolerance;      // ε asked, model units
-  std::optional<double> pixelAccuracy;  // or pixels, for a camera
+  std::string sourceName = {};    // the control mesh (its id, or its file's stem); names node and mesh
+  std::string sourceSha256 = {};  // of its canonical encoding (core/mesh_codec.h); empty: unknown
+  std::optional<double> tolerance = {};      // ε asked, model units
+  std::optional<double> pixelAccuracy = {};  // or pixels, for a camera
   int uniformLevel = 0;                 // or a uniform level
   double guaranteedBound = 0;           // model units, the encoding's error included
 };
 
 struct GlbOptions {
-  GlbDescription description;
+  GlbDescription description = {};
   GlbEncoding encoding = GlbEncoding::kFloat;
   // kQuantized, kMeshopt: the positions' grid; unset keeps float positions (int8 normals still).
-  std::optional<PositionQuantization> positions;
+  std::optional<PositionQuantization> positions = {};
 };
 
 // Throws TesseraError (kInvalidInput) for a mesh it cannot write, kLimitExceeded past 4 GiB.

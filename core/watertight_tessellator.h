@@ -23,7 +23,8 @@ struct TriangleMesh {
   std::vector<int> vertexFace, vertexSubFace;
   std::vector<double> vertexUv;  // u, v per vertex
   // Adaptive path: the vertex whose position each vertex repeats bit for bit with a normal of its
-  // own (the other side of a crease or of a fold narrower than ε), itself otherwise.
+  // own (the other side of a crease or of a fold narrower than ε), itself otherwise. The adaptive
+  // path fills these per-vertex records and trianglePiece only with recordParameters.
   std::vector<uint32_t> vertexPoint;
   std::vector<uint32_t> trianglePiece;  // the plan piece (adaptive: the tile) each triangle belongs to
   // With recordParameters: (s, t) of each corner in its piece; on the adaptive path (u, v) in the

@@ -171,7 +171,7 @@ int run(const char* path, double relative) {
   options.tolerance = relative;
   options.relativeTolerance = true;
   const AdaptiveLayout layout = layoutAdaptive(patches, *patches.adaptive, options);
-  const TriangleMesh output = tessellateAdaptive(patches, *patches.adaptive, layout);
+  const TriangleMesh output = tessellateAdaptive(patches, *patches.adaptive, layout, true);
   const SurfaceTree& tree = patches.adaptive->tree;
   std::vector<std::vector<uint32_t>> rootTriangles(tree.roots.size());
   for (uint32_t t = 0; t < output.triangleCount(); ++t) {
