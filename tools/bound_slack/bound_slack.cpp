@@ -13,6 +13,8 @@
 //    share of the slack);
 //  - for tiles inside one piece, §2a's bound (core/edge_curvature.h) at the tile's rates over §2's
 //    (both from the piece's net: the share §2a takes off, or adds);
+//  - §2's form with only the components of the second derivatives along the surface normal
+//    (sampled, pointwise; an estimate of what a geometric bound could reach, not a bound);
 //  - a directional form (sampled, an estimate, not a bound): for a triangle in a w × h box with
 //    one edge along u or v, the variance identity Σ λ_k q(x_k) − q(x) = Σ_{j<k} λ_j λ_k q(x_j − x_k)
 //    for the quadratic q = ½ D²f gives ½ max_λ Σ_{j<k} λ_j λ_k |D²f[e_jk, e_jk]|, with
@@ -40,6 +42,7 @@ constexpr int kShapeSamples = 16;   // intervals a tile side is sampled at for s
 
 struct TileFigures {
   double bound, measured, equalParameter, sampledForm, directionalForm;
+  double normalForm = 0;  // §2's form with the normal components of f_uu, f_uv, f_vv only, pointwise
   double edgeOverCurvature = -1;  // §2a / §2 from the net, for tiles inside one piece
 };
 
@@ -136,8 +139,10 @@ double maxOverSimplex(double a, double b, double c) {
 
 // The FMM86 form and the directional form, both from second derivatives sampled by central
 // differences (in cell units: w² f_uu, w h f_uv, h² f_vv) on a grid over the tile.
-void sampledForms(SurfaceEvaluator& evaluator, const TileFrame& frame, const Tile& tile, double& fmm, double& directional) {
+void sampledForms(SurfaceEvaluator& evaluator, const TileFrame& frame, const Tile& tile, double& fmm, double& directional,
+                  double& normal) {
   double uu = 0, uv = 0, vv = 0, across = 0;
+  normal = 0;
   const double d = 1e-3 / std::max(tile.ru, tile.rv);
   for (int j = 0; j <= kShapeSamples; ++j) {
     for (int i = 0; i <= kShapeSamples; ++i) {
@@ -149,6 +154,10 @@ void sampledForms(SurfaceEvaluator& evaluator, const TileFrame& frame, const Til
       const Vec3d fvv = (f(0, 1) - p * 2 + f(0, -1)) * (h * h / (d * d));
       const Vec3d fuv = (f(1, 1) - f(1, -1) - f(-1, 1) + f(-1, -1)) * (w * h / (4 * d * d));
       uu = std::max(uu, length(fuu)), uv = std::max(uv, length(fuv)), vv = std::max(vv, length(fvv));
+      // The tangential parts move points along the surface; only the normal parts move it off.
+      Vec3d n = cross(f(1, 0) - f(-1, 0), f(0, 1) - f(0, -1));
+      n = n * (1 / length(n));
+      normal = std::max(normal, (std::abs(dot(n, fuu)) + 2 * std::abs(dot(n, fuv)) + std::abs(dot(n, fvv))) / 8);
       // Every direction (δ, ±h), |δ| ≤ w, and (w, ±δ'), |δ'| ≤ h: the Bernstein coefficients of
       // the quadratic in δ on [0, w] and [−w, 0], and likewise in δ'.
       across = std::max({across, length(fuu + fuv * 2 + fvv), length(fuu - fuv * 2 + fvv), length(fvv + fuv),
@@ -194,7 +203,7 @@ int run(const char* path, double relative) {
       TileFigures f{tile.bound, measured, 0, 0, 0};
       f.equalParameter = std::min(equalParameterDistance(evaluator, frame, tile, 0),
                                   equalParameterDistance(evaluator, frame, tile, 1));
-      sampledForms(evaluator, frame, tile, f.sampledForm, f.directionalForm);
+      sampledForms(evaluator, frame, tile, f.sampledForm, f.directionalForm, f.normalForm);
       if (tile.ru >= 2 && tile.rv >= 2) f.edgeOverCurvature = edgeOverCurvature(tree, patches, tile);
       figures.push_back(f);
       triangles += 2L * tile.ru * tile.rv;
@@ -215,6 +224,7 @@ int run(const char* path, double relative) {
   row("equal-parameter distance / measured", [](const TileFigures& f) { return f.equalParameter / f.measured; });
   row("FMM86 form, sampled derivatives / measured", [](const TileFigures& f) { return f.sampledForm / f.measured; });
   row("directional form, sampled / measured", [](const TileFigures& f) { return f.directionalForm / f.measured; });
+  row("FMM86 form, normal parts only, sampled / measured", [](const TileFigures& f) { return f.normalForm / f.measured; });
   std::vector<TileFigures> onePiece;
   for (const TileFigures& f : figures) {
     if (f.edgeOverCurvature > 0) onePiece.push_back(f);
