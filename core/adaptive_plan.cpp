@@ -22,7 +22,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // rule (split when the quadrants need at most 85 % of the triangles), on the nine benchmark
 // models at 1e-2..1e-4 this gives 0.8 % fewer triangles summed in 12 % less time.
 constexpr int64_t kSplitSaving = 8;
-
 // How far below a leaf piece de Casteljau may split it, and the deepest tile level at all
 // (tile coordinates stay exact integers).
 constexpr int kMaxSplitBelowLeaf = 16;

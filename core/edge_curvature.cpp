@@ -24,12 +24,10 @@ void raiseQuadratic(const Vec3d c[3], Vec3d out[4]) {
   out[0] = c[0], out[1] = (c[0] + c[1] * 2.0) * (1 / 3.0), out[2] = (c[1] * 2.0 + c[2]) * (1 / 3.0), out[3] = c[2];
 }
 
-}  // namespace
-
-EdgeCurvature edgeCurvature(const BezierNet& net) {
-  auto at = [&net](int i, int j) { return net[4 * j + i]; };  // i along u, j along v
-  // U (degree 1 in u, 3 in v), V (3, 1) and W (2, 2), each raised to (3, 3): [i][j].
-  Vec3d u[4][4], v[4][4], w[4][4];
+// The Bézier coefficients of f_uu (6 Δ²_u b, degree (1, 3)), f_uv (9 Δ_u Δ_v b, (2, 2)) and f_vv
+// (6 Δ²_v b, (3, 1)), each raised to (3, 3), indexed [i along u][j along v].
+void raisedSecondDerivatives(const BezierNet& net, Vec3d u[4][4], Vec3d w[4][4], Vec3d v[4][4]) {
+  auto at = [&net](int i, int j) { return net[4 * j + i]; };
   for (int j = 0; j < 4; ++j) {
     Vec3d c[2], raised[4];
     for (int i = 0; i < 2; ++i) c[i] = (at(i, j) - at(i + 1, j) * 2.0 + at(i + 2, j)) * 6.0;
@@ -41,30 +39,25 @@ EdgeCurvature edgeCurvature(const BezierNet& net) {
     for (int j = 0; j < 2; ++j) c[j] = (at(i, j) - at(i, j + 1) * 2.0 + at(i, j + 2)) * 6.0;
     raiseLinear(c, v[i]);
   }
-  Vec3d mixed[3][4];  // raised along v first
+  Vec3d alongV[3][4];  // raised along v first, then along u
   for (int i = 0; i < 3; ++i) {
     Vec3d c[3];
     for (int j = 0; j < 3; ++j) c[j] = (at(i, j) - at(i + 1, j) - at(i, j + 1) + at(i + 1, j + 1)) * 9.0;
-    raiseQuadratic(c, mixed[i]);
+    raiseQuadratic(c, alongV[i]);
   }
   for (int j = 0; j < 4; ++j) {
-    const Vec3d c[3] = {mixed[0][j], mixed[1][j], mixed[2][j]};
+    const Vec3d c[3] = {alongV[0][j], alongV[1][j], alongV[2][j]};
     Vec3d raised[4];
     raiseQuadratic(c, raised);
     for (int i = 0; i < 4; ++i) w[i][j] = raised[i];
   }
-  double uu = 0, uv = 0, vv = 0, uvMax = -INFINITY, uvMin = INFINITY, uuW = 0, wVv = 0;
-  for (int i = 0; i < 4; ++i) {
-    for (int j = 0; j < 4; ++j) {
-      uu = std::max(uu, dot(u[i][j], u[i][j])), uv = std::max(uv, dot(w[i][j], w[i][j]));
-      vv = std::max(vv, dot(v[i][j], v[i][j]));
-      const double uDotV = dot(u[i][j], v[i][j]);
-      uvMax = std::max(uvMax, uDotV), uvMin = std::min(uvMin, uDotV);
-      uuW = std::max(uuW, std::abs(dot(u[i][j], w[i][j]))), wVv = std::max(wVv, std::abs(dot(w[i][j], v[i][j])));
-    }
-  }
-  // Third derivatives: 6 Δ³_u b (degree (0, 3)), 18 Δ²_u Δ_v b (1, 2), 18 Δ_u Δ²_v b (2, 1), 6 Δ³_v b.
-  double third[4] = {0, 0, 0, 0};
+}
+
+// Hull bounds of ‖f_uuu‖ (6 Δ³_u b, degree (0, 3)), ‖f_uuv‖ (18 Δ²_u Δ_v b, (1, 2)), ‖f_uvv‖
+// (18 Δ_u Δ²_v b, (2, 1)) and ‖f_vvv‖ (6 Δ³_v b, (3, 0)).
+void thirdDerivativeBounds(const BezierNet& net, double third[4]) {
+  auto at = [&net](int i, int j) { return net[4 * j + i]; };
+  for (int k = 0; k < 4; ++k) third[k] = 0;
   for (int k = 0; k < 4; ++k) {
     third[0] = std::max(third[0], 6 * length(at(3, k) - at(2, k) * 3.0 + at(1, k) * 3.0 - at(0, k)));
     third[3] = std::max(third[3], 6 * length(at(k, 3) - at(k, 2) * 3.0 + at(k, 1) * 3.0 - at(k, 0)));
@@ -79,6 +72,25 @@ EdgeCurvature edgeCurvature(const BezierNet& net) {
       third[2] = std::max(third[2], 18 * length(vvHigh - vvLow));
     }
   }
+}
+
+}  // namespace
+
+EdgeCurvature edgeCurvature(const BezierNet& net) {
+  Vec3d u[4][4], w[4][4], v[4][4];
+  raisedSecondDerivatives(net, u, w, v);
+  double uu = 0, uv = 0, vv = 0, uvMax = -INFINITY, uvMin = INFINITY, uuW = 0, wVv = 0;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) {
+      uu = std::max(uu, dot(u[i][j], u[i][j])), uv = std::max(uv, dot(w[i][j], w[i][j]));
+      vv = std::max(vv, dot(v[i][j], v[i][j]));
+      const double uDotV = dot(u[i][j], v[i][j]);
+      uvMax = std::max(uvMax, uDotV), uvMin = std::min(uvMin, uDotV);
+      uuW = std::max(uuW, std::abs(dot(u[i][j], w[i][j]))), wVv = std::max(wVv, std::abs(dot(w[i][j], v[i][j])));
+    }
+  }
+  double third[4];
+  thirdDerivativeBounds(net, third);
   EdgeCurvature e;
   e.uu = up(uu), e.uv = up(uv), e.vv = up(vv);
   e.uuVvMax = up(uvMax), e.uuVvMin = down(uvMin);
