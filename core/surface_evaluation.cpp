@@ -55,6 +55,16 @@ BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t in
   return bsplineToRootBezier(net, orientation, Vec3d(patches.rings.centers[leaf.ring]));
 }
 
+BezierNet squareNet(const SurfaceTree& tree, const PatchSet& patches, const NodeSquare& leaf, int level, uint64_t ix,
+                    uint64_t iy) {
+  BezierNet net = pieceNet(tree, patches, leaf.node);
+  for (int at = leaf.level; at < level; ++at) {
+    const int d = level - at - 1;
+    net = quadrantNet(net, int((ix >> d) & 1), int((iy >> d) & 1));
+  }
+  return net;
+}
+
 const Vec3d* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
   if (cachedFas_ != fasLeaf) {
     const FasLeaf& leaf = tree_.fasLeaves[fasLeaf];

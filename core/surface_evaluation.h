@@ -27,6 +27,10 @@ struct NodeSquare {
 
 // The Bézier net, in root orientation, of a leaf (regular or FAS).
 BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
+// The net of square (level, ix, iy) at or below `leaf`'s square: the leaf's net halved by
+// de Casteljau down to it.
+BezierNet squareNet(const SurfaceTree& tree, const PatchSet& patches, const NodeSquare& leaf, int level, uint64_t ix,
+                    uint64_t iy);
 
 struct SurfaceSample {
   Vec3d position;

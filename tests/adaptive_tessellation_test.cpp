@@ -334,11 +334,7 @@ TEST(AdaptiveTessellation, GridTilesAreWithinTheirBoundAtEqualParameters) {
       const SurfaceNode& node = tree.nodes[tile.node.node];
       if (tile.ru < 2 || tile.rv < 2 || tile.cellwise) continue;
       if (node.kind != NodeKind::kRegularLeaf && node.kind != NodeKind::kFasLeaf) continue;
-      BezierNet net = pieceNet(tree, set, tile.node.node);
-      for (int level = tile.node.level; level < tile.level; ++level) {
-        const int d = tile.level - level - 1;
-        net = quadrantNet(net, int((tile.ix >> d) & 1), int((tile.iy >> d) & 1));
-      }
+      const BezierNet net = squareNet(tree, set, tile.node, tile.level, tile.ix, tile.iy);
       tighterThanCurvature += tile.bound < 0.95 * interpolationBound(netCurvature(net.data()), 1.0 / tile.ru, 1.0 / tile.rv);
     }
   }

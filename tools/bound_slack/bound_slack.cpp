@@ -51,11 +51,7 @@ struct TileFigures {
 double edgeOverCurvature(const SurfaceTree& tree, const PatchSet& patches, const Tile& tile) {
   const SurfaceNode& node = tree.nodes[tile.node.node];
   if (node.kind != NodeKind::kRegularLeaf && node.kind != NodeKind::kFasLeaf) return -1;
-  BezierNet net = pieceNet(tree, patches, tile.node.node);
-  for (int level = tile.node.level; level < tile.level; ++level) {
-    const int d = tile.level - level - 1;
-    net = quadrantNet(net, int((tile.ix >> d) & 1), int((tile.iy >> d) & 1));
-  }
+  const BezierNet net = squareNet(tree, patches, tile.node, tile.level, tile.ix, tile.iy);
   return gridTileBound(edgeCurvature(net), tile.ru, tile.rv) /
          interpolationBound(netCurvature(net.data()), 1.0 / tile.ru, 1.0 / tile.rv);
 }
@@ -114,29 +110,6 @@ double equalParameterDistance(SurfaceEvaluator& evaluator, const TileFrame& fram
   return worst;
 }
 
-// max over the simplex of a λ0λ1 + b λ1λ2 + c λ0λ2 for a, b, c ≥ 0: an edge's midpoint, or the
-// interior point where the gradient is (μ, μ, μ) when all its weights are positive.
-double maxOverSimplex(double a, double b, double c) {
-  double best = std::max({a, b, c}) / 4;
-  double m[4][5] = {{0, a, c, -1, 0}, {a, 0, b, -1, 0}, {c, b, 0, -1, 0}, {1, 1, 1, 0, 1}};
-  for (int i = 0; i < 4; ++i) {
-    int pivot = i;
-    for (int r = i + 1; r < 4; ++r) {
-      if (std::abs(m[r][i]) > std::abs(m[pivot][i])) pivot = r;
-    }
-    std::swap(m[i], m[pivot]);
-    if (std::abs(m[i][i]) < 1e-300) return best;
-    for (int r = 0; r < 4; ++r) {
-      if (r == i) continue;
-      const double factor = m[r][i] / m[i][i];
-      for (int k = i; k < 5; ++k) m[r][k] -= factor * m[i][k];
-    }
-  }
-  const double l0 = m[0][4] / m[0][0], l1 = m[1][4] / m[1][1], l2 = m[2][4] / m[2][2];
-  if (l0 >= 0 && l1 >= 0 && l2 >= 0) best = std::max(best, a * l0 * l1 + b * l1 * l2 + c * l0 * l2);
-  return best;
-}
-
 // The FMM86 form and the directional form, both from second derivatives sampled by central
 // differences (in cell units: w² f_uu, w h f_uv, h² f_vv) on a grid over the tile.
 void sampledForms(SurfaceEvaluator& evaluator, const TileFrame& frame, const Tile& tile, double& fmm, double& directional,
@@ -165,7 +138,7 @@ void sampledForms(SurfaceEvaluator& evaluator, const TileFrame& frame, const Til
     }
   }
   fmm = (uu + 2 * uv + vv) / 8;
-  directional = maxOverSimplex(std::max(uu, vv), across, across) / 2;
+  directional = simplexMax(std::max(uu, vv), across, across) / 2;
 }
 
 double quantile(std::vector<double> v, double q) {
