@@ -105,8 +105,8 @@ struct PatchSet {
 struct PreprocessingOptions {
   std::function<void()> checkpoint;
   int64_t maxRefinedVertices = 0;
-  std::function<void(int64_t refinedVertices)> beforeRefining;
-  std::function<void(int64_t refinedVertices)> afterRefining;
+  std::function<void(int64_t refinedVertices)> beforeRefining = {};
+  std::function<void(int64_t refinedVertices)> afterRefining = {};
 };
 
 // Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).
