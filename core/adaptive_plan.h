@@ -36,6 +36,10 @@ struct Tile {
   // 0 any, 1 + d diagonal d (0: corners 0–2, 1: corners 1–3); a cell-wise tile's cells all keep
   // it (only tiles that agree are merged).
   uint8_t diagonal = 0;
+  // 1 + k: the one-cell tile of sub-face k of a triangular base face whose three sub-faces are
+  // tessellated together as one triangle through the face's corners (core/face_triangles.h).
+  // Only the flattened plan has these; sub-face 0's tile emits the triangle.
+  uint8_t faceTriangle = 0;
 
   double size() const { return exp2i(-level); }
 };

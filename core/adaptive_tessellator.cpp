@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/face_triangles.h"
 #include "core/tile_stitching.h"
 #include "core/tile_triangulation.h"
 
@@ -94,6 +95,13 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
     const Tile& tile = plan.tiles[tileIndex];
     const SurfaceRoot& root = surface.tree.roots[tileRoot[tileIndex]];
     mesh.triangleFace[t] = root.baseFace, mesh.triangleSubFace[t] = root.subFace;
+    if (tile.faceTriangle) {
+      // The face's corners 0, 1, 2 in sub-face 0's coordinates unfolded past its spokes: sub-face
+      // 1's origin at (2, 0), sub-face 2's at (0, 2).
+      static constexpr double kUnfolded[6] = {0, 0, 2, 0, 0, 2};
+      std::copy(kUnfolded, kUnfolded + 6, &mesh.triangleST[6 * t]);
+      return;
+    }
     const double size = tile.size();
     const uint32_t gridFirst = stitching.gridFirst[tileIndex];
     const uint32_t gridCount = uint32_t((tile.ru - 1) * (tile.rv - 1));
@@ -268,7 +276,8 @@ bool settlePending(AdaptivePlan& plan, const Stitching& stitching, std::vector<T
 
 // Rounds of planning: one-cell tiles planned on their corners' bound alone are checked against
 // their neighbours (tile_neighbors.h) and planned again without that shortcut where they fail,
-// which can change what their neighbours see, until none fails; then the seams are stitched.
+// which can change what their neighbours see, until none fails; then triangular faces are joined
+// where they can be (face_triangles.h) and the seams are stitched.
 AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& surface,
                               const TessellationOptions& options) {
   AdaptiveLayout layout;
@@ -277,8 +286,9 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
   RootTiles tiles;
   planRoots(surface.tree, patches, options, tiles);
   TileNeighbors neighbors(surface.rootSeams, tiles);
-  for (;;) {
-    for (std::vector<uint32_t> check = roots;;) {
+  std::vector<uint8_t> refusedFaces(surface.tree.faceFirstRoot.size(), 0);
+  for (std::vector<uint32_t> check = roots;;) {
+    while (!check.empty()) {
       ++layout.rounds;
       const std::vector<TileSquare> failed = checkPending(tiles, neighbors, check);
       if (failed.empty()) break;
@@ -294,13 +304,19 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
                  "; raise the tolerance or the triangle budget");
     }
     if (options.beforeOutput) options.beforeOutput(layout.plan.gridTriangles);
+    joinFaceTriangles(layout.plan, patches, surface, refusedFaces);
     layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint);
     std::vector<TileSquare> failed;
-    if (settlePending(layout.plan, layout.stitching, failed)) return layout;
+    const bool settled = settlePending(layout.plan, layout.stitching, failed);
+    // A face triangle refused here is its sub-faces' tiles again next time, as `tiles` has them.
+    if (faceTrianglesHold(layout.plan, layout.stitching, surface.tree, refusedFaces) && settled) return layout;
+    check.clear();
+    if (settled) continue;
     // The failed squares planned again; the other pending tiles stay pending in `tiles` and are
     // checked again with their new neighbours.
     replanSquares(surface.tree, patches, options, failed, tiles);
     reindex(neighbors, failed);
+    check = roots;
   }
 }
 

@@ -108,6 +108,15 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
   return use;
 }
 
+// A face triangle's edge (core/face_triangles.h): sub-face k's side 0 stretched over the whole of
+// base edge k, one cell from the face's corner k to corner k + 1.
+LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& line) {
+  LineUse use = sideUse(tile, t, 0);
+  use.a = line.origin, use.sign = line.sign, use.exp = 0;
+  use.t0 = 0, use.t1 = kLineScale;
+  return use;
+}
+
 // The point at `along` (0..1) of side k of a tile, in root coordinates.
 void sidePoint(const Tile& tile, int k, double along, double& u, double& v) {
   const double s = tile.size();
@@ -148,6 +157,7 @@ class Stitcher {
   void numberSeamVertices();
   void writeBoundaryLine(uint32_t l, Arena& a);
   int boundaryQualifier(const LineUse& use, const SeamLines::Line& line, bool end, double along) const;
+  VertexRequest pointOn(const LineUse& use, double along) const;
   void assemble();
   void splitNormals();
 
@@ -205,6 +215,12 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
     for (uint32_t t = first; t < last; ++t) {
       const Tile& tile = plan_.tiles[t];
       if (!onRootBoundary(tile, k)) continue;
+      if (tile.faceTriangle) {
+        // Its only side on a line: the other half of edge k − 1 is the previous sub-face's, the
+        // spokes have none.
+        if (k == 0) a.boundaryUses.push_back(faceEdgeUse(tile, t, line));
+        continue;
+      }
       LineUse use = sideUse(tile, t, k);
       const uint64_t along = k == 0 || k == 2 ? tile.ix : tile.iy;
       use.a = (Int(line.origin) * use.cells << (tile.level + d)) + line.sign * Int(along) * use.cells;
@@ -356,9 +372,7 @@ void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
       if (use.tile >= record.claim[j].tile) continue;
       double along, back;
       sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], position, along, back);
-      VertexRequest& claim = record.claim[j];
-      claim.tile = use.tile;
-      sidePoint(plan_.tiles[use.tile], use.side, along, claim.u, claim.v);
+      record.claim[j] = pointOn(use, along);
     }
   }
   for (size_t u = 0; u < a.line.size(); ++u) {
@@ -392,9 +406,7 @@ bool Stitcher::resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses) 
   for (int j = 0; j <= 2; j += 2) {
     // Node j at t = j/2: the side's coordinate there is 0 or 1, as the side runs along the line.
     const double along = (j == 0) == (use.sign > 0) ? 0 : 1;
-    VertexRequest& claim = record.claim[j];
-    claim.tile = use.tile;
-    sidePoint(plan_.tiles[use.tile], use.side, along, claim.u, claim.v);
+    record.claim[j] = pointOn(use, along);
   }
   for (const LineUse& each : uses) boundarySide_[4 * size_t(each.tile) + each.side].count = record.count;
   return true;
@@ -436,6 +448,8 @@ void Stitcher::numberSeamVertices() {
 // How a boundary side's point splits its normal for the side's root: at a root corner as the
 // corner says, elsewhere by the face inside an infinitely sharp edge.
 int Stitcher::boundaryQualifier(const LineUse& use, const SeamLines::Line& line, bool end, double along) const {
+  // A face triangle has no corner that splits its normal and no sharp edge (core/face_triangles.h).
+  if (plan_.tiles[use.tile].faceTriangle) return -1;
   const uint32_t root = tileRoot_[use.tile];
   if (end) {
     const Tile& tile = plan_.tiles[use.tile];
@@ -449,6 +463,23 @@ int Stitcher::boundaryQualifier(const LineUse& use, const SeamLines::Line& line,
     }
   }
   return line.sharp ? tree_.roots[root].baseFace : -1;
+}
+
+// Where the point at `along` of a use is evaluated: in its tile's root on the side's point; on a
+// face triangle's edge, the first half in sub-face k (its side 0) and the second in sub-face
+// k + 1 (its side 3, running back from the face's corner k + 1), each in its own root.
+VertexRequest Stitcher::pointOn(const LineUse& use, double along) const {
+  const Tile& tile = plan_.tiles[use.tile];
+  VertexRequest request{use.tile, 0, 0, 0};
+  if (tile.faceTriangle == 0) {
+    sidePoint(tile, use.side, along, request.u, request.v);
+  } else if (along <= 0.5) {
+    request.u = 2 * along;
+  } else {
+    request.tile = use.tile - (tile.faceTriangle - 1) + tile.faceTriangle % 3;
+    request.v = 2 * (1 - along);
+  }
+  return request;
 }
 
 // Every point of a boundary line named (a node's vertex or the line's own) and handed to the
@@ -490,9 +521,7 @@ void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
     const LineUse& use = uses[owner];
     double along, back;
     sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
-    VertexRequest& request = seamVertices_[nextOwn];
-    request.tile = use.tile;
-    sidePoint(plan_.tiles[use.tile], use.side, along, request.u, request.v);
+    seamVertices_[nextOwn] = pointOn(use, along);
     ids[p] = nextOwn++;
   }
   for (size_t u = 0; u < uses.size(); ++u) {
@@ -520,9 +549,7 @@ void Stitcher::writeUniformLine(const SeamLines::Line& line, const LineRecord& r
   const LineUse& owner = uses[0];
   for (int k = 1; k < cells; ++k) {
     const double along = double(owner.sign > 0 ? k : cells - k) / cells;
-    VertexRequest& request = seamVertices_[record.firstOwn + uint32_t(k - 1)];
-    request.tile = owner.tile;
-    sidePoint(plan_.tiles[owner.tile], owner.side, along, request.u, request.v);
+    seamVertices_[record.firstOwn + uint32_t(k - 1)] = pointOn(owner, along);
   }
   for (const LineUse& use : uses) {
     PendingPoint* out = boundaryPool_.data() + boundarySide_[4 * size_t(use.tile) + use.side].offset;

@@ -291,6 +291,18 @@ void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTr
   }
 }
 
+// A triangular face as one triangle (core/face_triangles.h): sub-face k's tile t + k starts its
+// side 0, the face's edge k, at the face's corner k; sub-face 0's tile emits it.
+void faceTriangle(const Stitching& stitching, size_t t, const Tile& tile, TileTriangles& out) {
+  if (tile.faceTriangle != 1) return;
+  uint32_t corner[3];
+  for (size_t k = 0; k < 3; ++k) {
+    size_t count;
+    corner[k] = stitching.side(t + k, 0, count)[0].vertex;
+  }
+  out.emit(corner[0], corner[1], corner[2]);
+}
+
 }  // namespace
 
 bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, uint32_t c) {
@@ -302,6 +314,7 @@ bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, ui
 void triangulateTile(const Stitching& stitching, size_t t, const Tile& tile, uint32_t gridFirst,
                      const TriangulationVertices& vertices, std::vector<uint32_t>& indices) {
   TileTriangles out(vertices, gridFirst, indices);
+  if (tile.faceTriangle) return faceTriangle(stitching, t, tile, out);
   if (tile.cellwise) return cellwiseTile(stitching, t, tile, out);
   if (tile.ru >= 2 && tile.rv >= 2) return gridTile(stitching, t, tile, out);
   if (tile.ru == 1 && tile.rv == 1) {

@@ -344,6 +344,67 @@ TEST(AdaptiveTessellation, GridTilesAreWithinTheirBoundAtEqualParameters) {
               tighterThanCurvature);
 }
 
+// A triangular base face whose three sub-faces each need one cell becomes one triangle through the
+// face's limit corners (core/face_triangles.h, docs/ADAPTIVE.md §6a) where its bound allows and
+// no neighbour puts a point on its edges: then every limit point of the face, sampled from Bfr
+// over its three sub-faces, lies within the tile's bound of the triangle, and every point of the
+// triangle within that bound of the limit surface (Gauss-Newton projection from the sub-face
+// its parameters, unfolded past the spokes, fall in).
+TEST(AdaptiveTessellation, TriangularFacesBecomeOneTriangleWithinTheirBound) {
+  constexpr int kSamples = 12;
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_bishop.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  const testing::LimitSurface surface(mesh);
+  TessellationOptions options;
+  options.tolerance = 1e-2;
+  options.relativeTolerance = true;
+  const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
+  const TriangleMesh out = tessellateAdaptive(set, *set.adaptive, layout, true);
+  const double slack = (testing::LimitSurface::kRelativeAccuracy + 1e-6) * surface.diagonal();
+  size_t joined = 0;
+  double closest = 0;
+  for (size_t t = 0; t < out.triangleCount(); ++t) {
+    const Tile& tile = layout.plan.tiles[out.trianglePiece[t]];
+    if (tile.faceTriangle == 0) continue;
+    ASSERT_EQ(tile.faceTriangle, 1);
+    ASSERT_LE(tile.bound, tile.tolerance);
+    const int face = out.triangleFace[t];
+    ASSERT_EQ(mesh.faceSizes[face], 3);
+    ++joined;
+    Vec3d corner[3];
+    for (int k = 0; k < 3; ++k) {
+      corner[k] = Vec3d(out.positions[out.indices[3 * t + k]]);
+      Vec3d exact;
+      surface.evaluate(surface.domainOf(face, k), 0, 0, exact);
+      EXPECT_LE(length(corner[k] - exact), slack) << "corner " << k << " of face " << face;
+    }
+    double worst = 0;
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j <= kSamples; ++j) {
+        for (int i = 0; i <= kSamples; ++i) {
+          Vec3d x;
+          surface.evaluate(surface.domainOf(face, k), double(i) / kSamples, double(j) / kSamples, x);
+          worst = std::max(worst, length(x - testing::closestPointOnTriangle(x, corner[0], corner[1], corner[2])));
+        }
+      }
+    }
+    const int first = surface.domainOf(face, 0);
+    for (int i = 0; i <= kSamples; ++i) {
+      for (int j = 0; i + j <= kSamples; ++j) {
+        const double b1 = double(i) / kSamples, b2 = double(j) / kSamples, b0 = 1 - b1 - b2;
+        const Vec3d p = corner[0] * b0 + corner[1] * b1 + corner[2] * b2;
+        double u = 2 * b1, v = 2 * b2;
+        const int domain = surface.continueDomain(first, u, v);
+        worst = std::max(worst, testing::projectInDomain(surface, p, domain, u, v, 1e-12 * surface.diagonal()).distance);
+      }
+    }
+    EXPECT_LE(worst, tile.bound + slack) << "face " << face;
+    closest = std::max(closest, worst / tile.bound);
+  }
+  EXPECT_GT(joined, 50u);
+  std::printf("%zu triangular faces as one triangle; the largest distance is %.2f of its bound\n", joined, closest);
+}
+
 // A coarse request is answered from coarse nodes: it must not touch every fine piece, so it costs
 // far less than a fine one on a mesh whose preprocessing made many pieces.
 TEST(AdaptiveTessellation, CoarseRequestsUseCoarseTiles) {
