@@ -37,9 +37,11 @@ struct Tile {
   // it (only tiles that agree are merged).
   uint8_t diagonal = 0;
   // 1 + k: the one-cell tile of sub-face k of a triangular base face whose three sub-faces are
-  // tessellated together as one triangle through the face's corners (core/face_triangles.h).
-  // Only the flattened plan has these; sub-face 0's tile emits the triangle.
+  // tessellated together as the triangle through the face's corners, split at the middles its
+  // edges keep (core/face_triangles.h); faceMiddles: its edges keep their middles whatever the
+  // neighbours do. Only the flattened plan has these; sub-face 0's tile emits the triangles.
   uint8_t faceTriangle = 0;
+  bool faceMiddles = false;
 
   double size() const { return exp2i(-level); }
 };

@@ -82,6 +82,21 @@ void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool
   }
 }
 
+// A face triangle's corners (core/face_triangles.h) in sub-face 0's coordinates unfolded past its
+// spokes: the face's corners at (0, 0), (2, 0), (0, 2), the middles of its edges at (1, 0),
+// (2, 1) (sub-face 1's (1, 0)) and (0, 1).
+void faceTriangleParameters(const Stitching& stitching, size_t t, const uint32_t* corners, double* st) {
+  static constexpr double kCorner[3][2] = {{0, 0}, {2, 0}, {0, 2}}, kMiddle[3][2] = {{1, 0}, {2, 1}, {0, 1}};
+  for (int c = 0; c < 3; ++c) {
+    for (size_t k = 0; k < 3; ++k) {
+      size_t count;
+      const SidePoint* points = stitching.side(t + k, 0, count);
+      const double* at = points[0].vertex == corners[c] ? kCorner[k] : count == 3 && points[1].vertex == corners[c] ? kMiddle[k] : nullptr;
+      if (at) st[2 * c] = at[0], st[2 * c + 1] = at[1];
+    }
+  }
+}
+
 // Each triangle's root and its corners' (u, v) there: a corner is the tile's inner grid point
 // or one of its sides' points (before fold copies are made).
 void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan& plan, const Stitching& stitching,
@@ -95,13 +110,7 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
     const Tile& tile = plan.tiles[tileIndex];
     const SurfaceRoot& root = surface.tree.roots[tileRoot[tileIndex]];
     mesh.triangleFace[t] = root.baseFace, mesh.triangleSubFace[t] = root.subFace;
-    if (tile.faceTriangle) {
-      // The face's corners 0, 1, 2 in sub-face 0's coordinates unfolded past its spokes: sub-face
-      // 1's origin at (2, 0), sub-face 2's at (0, 2).
-      static constexpr double kUnfolded[6] = {0, 0, 2, 0, 0, 2};
-      std::copy(kUnfolded, kUnfolded + 6, &mesh.triangleST[6 * t]);
-      return;
-    }
+    if (tile.faceTriangle) return faceTriangleParameters(stitching, tileIndex, &mesh.indices[3 * t], &mesh.triangleST[6 * t]);
     const double size = tile.size();
     const uint32_t gridFirst = stitching.gridFirst[tileIndex];
     const uint32_t gridCount = uint32_t((tile.ru - 1) * (tile.rv - 1));
@@ -286,7 +295,7 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
   RootTiles tiles;
   planRoots(surface.tree, patches, options, tiles);
   TileNeighbors neighbors(surface.rootSeams, tiles);
-  std::vector<uint8_t> refusedFaces(surface.tree.faceFirstRoot.size(), 0);
+  FaceTriangles faceTriangles(surface.tree.faceFirstRoot.size());
   for (std::vector<uint32_t> check = roots;;) {
     while (!check.empty()) {
       ++layout.rounds;
@@ -304,12 +313,13 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
                  "; raise the tolerance or the triangle budget");
     }
     if (options.beforeOutput) options.beforeOutput(layout.plan.gridTriangles);
-    joinFaceTriangles(layout.plan, patches, surface, refusedFaces);
+    faceTriangles.join(layout.plan, patches, surface);
     layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint);
+    // A face triangle refused here is its sub-faces' tiles again next time, as `tiles` has them.
+    const bool joined = faceTriangles.hold(layout.plan, layout.stitching, surface.tree);
     std::vector<TileSquare> failed;
     const bool settled = settlePending(layout.plan, layout.stitching, failed);
-    // A face triangle refused here is its sub-faces' tiles again next time, as `tiles` has them.
-    if (faceTrianglesHold(layout.plan, layout.stitching, surface.tree, refusedFaces) && settled) return layout;
+    if (joined && settled) return layout;
     check.clear();
     if (settled) continue;
     // The failed squares planned again; the other pending tiles stay pending in `tiles` and are

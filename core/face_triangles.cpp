@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 
 #include "core/surface_evaluation.h"
 
@@ -39,73 +41,108 @@ uint32_t joinableFace(const AdaptivePlan& plan, const AdaptiveSurface& surface, 
   return first;
 }
 
-// docs/ADAPTIVE.md §6a: each sub-face's cell is within its tile's bound b_k of the two triangles
-// through its corners (V_k, M_k, C, M_{k-1}); mapping those corners linearly to V_k, the middle
-// of edge k, the centroid G and the middle of edge k − 1 of the triangle V_0 V_1 V_2 moves every
-// point of the cell's triangles by at most the largest of its corners' moves (the move is linear
-// on each triangle), and the mapped triangles tile V_0 V_1 V_2. So the triangle is within
-// max_k (b_k + that move) of the surface over the face.
-double triangleBound(SurfaceEvaluator& evaluator, const SurfaceTree& tree, const AdaptivePlan& plan, uint32_t first) {
-  Vec3d corner[3], middle[3];
-  for (uint32_t k = 0; k < 3; ++k) {
-    const NodeSquare top{tree.roots[first + k].node, 0, 0, 0};
-    corner[k] = evaluator.evaluate(top, 0, 0).position;
-    middle[k] = evaluator.evaluate(top, 1, 0).position;
-  }
-  const Vec3d centre = evaluator.evaluate({tree.roots[first].node, 0, 0, 0}, 1, 1).position;
-  const double centreMove = length(centre - (corner[0] + corner[1] + corner[2]) * (1.0 / 3));
-  double middleMove[3];
-  for (int k = 0; k < 3; ++k) middleMove[k] = length(middle[k] - (corner[k] + corner[(k + 1) % 3]) * 0.5);
-  double bound = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double move = std::max({centreMove, middleMove[k], middleMove[(k + 2) % 3]});
-    bound = std::max(bound, double(plan.tiles[plan.rootFirstTile[first + k]].bound) + move);
-  }
-  return bound * (1 + 1e-9);
+Vec3d closestOnSegment(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
+  const Vec3d d = b - a;
+  const double dd = dot(d, d);
+  return dd > 0 ? a + d * std::clamp(dot(p - a, d) / dd, 0.0, 1.0) : a;
 }
 
 }  // namespace
 
-void joinFaceTriangles(AdaptivePlan& plan, const PatchSet& patches, const AdaptiveSurface& surface,
-                       const std::vector<uint8_t>& refused) {
+int faceTriangleMiddles(const Stitching& stitching, size_t t) {
+  int middles = 0;
+  for (int k = 0; k < 3; ++k) {
+    size_t count;
+    const SidePoint* points = stitching.side(t + size_t(k), 0, count);
+    if (count == 3 && points[1].at == 0.5) {
+      middles |= 1 << k;
+    } else if (count != 2) {
+      return -1;
+    }
+  }
+  return middles;
+}
+
+// docs/ADAPTIVE.md §6a: each sub-face's cell is within its tile's bound b_k of its two triangles
+// through its corners (V_k, M_k, C, M_{k-1}), for the diagonal that bound assumes. A map that
+// sends those corners to points of the face's triangulation and is linear on each of the cell's
+// triangles moves every point by at most the largest of its corners' moves; when the mapped
+// triangles tile the triangulation, it is within max_k (b_k + that move) of the surface. Kept
+// middles stay; the others go to their edge's chord middle, and C to the centroid G (no middle),
+// the middles' centroid (all three, diagonal M_k–M_{k−1}) or the point of the fold M_j–V_{j+2}
+// nearest it (only M_j, sub-face j + 2 on diagonal V_{j+2}–C).
+void FaceTriangles::join(AdaptivePlan& plan, const PatchSet& patches, const AdaptiveSurface& surface) {
   const int faces = int(surface.tree.faceFirstRoot.size());
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   tbb::parallel_for(tbb::blocked_range<int>(0, faces, 512), [&](const auto& range) {
     for (int f = range.begin(); f != range.end(); ++f) {
-      if (refused[f]) continue;
+      if (refused_[f]) continue;
       const uint32_t first = joinableFace(plan, surface, f);
       if (first == UINT32_MAX) continue;
+      SurfaceEvaluator& evaluator = evaluators.local();
       Tile* tiles[3];
+      Vec3d corner[3], middle[3];
       float tolerance = INFINITY;
       for (uint32_t k = 0; k < 3; ++k) {
         tiles[k] = &plan.tiles[plan.rootFirstTile[first + k]];
         tolerance = std::min(tolerance, tiles[k]->tolerance);
+        const NodeSquare top{surface.tree.roots[first + k].node, 0, 0, 0};
+        corner[k] = evaluator.evaluate(top, 0, 0).position;
+        middle[k] = evaluator.evaluate(top, 1, 0).position;
       }
-      const double bound = triangleBound(evaluators.local(), surface.tree, plan, first);
-      if (!(bound <= tolerance)) continue;
-      // The triangle's bound needs no side points but its corners, which faceTrianglesHold checks
-      // in place of the sub-faces' pending pairs.
+      const Vec3d centre = evaluator.evaluate({surface.tree.roots[first].node, 0, 0, 0}, 1, 1).position;
+      double bow[3];  // |M_k − chord middle of edge k|
+      for (int k = 0; k < 3; ++k) bow[k] = length(middle[k] - (corner[k] + corner[(k + 1) % 3]) * 0.5);
+      auto b = [&](int k) { return double(tiles[k % 3]->bound); };
+      // Which diagonal a sub-face's bound assumes (Tile::diagonal): 0 any, 1 + d diagonal d.
+      auto allows = [&](int k, int d) { return tiles[k % 3]->diagonal == 0 || tiles[k % 3]->diagonal == 1 + d; };
+      constexpr double kInf = INFINITY, kRound = 1 + 1e-9;
+      const double toCentroid = length(centre - (corner[0] + corner[1] + corner[2]) * (1.0 / 3));
+      double none = 0, all = 0;
+      const double toMiddles = length(centre - (middle[0] + middle[1] + middle[2]) * (1.0 / 3));
       for (int k = 0; k < 3; ++k) {
-        tiles[k]->bound = float(bound), tiles[k]->tolerance = tolerance;
+        none = std::max(none, b(k) + std::max({toCentroid, bow[k], bow[(k + 2) % 3]}));
+        all = std::max(all, allows(k, 1) ? b(k) + toMiddles : kInf);
+      }
+      Bounds& bounds = bounds_[f];
+      bounds.none = float(none * kRound), bounds.all = float(all * kRound);
+      for (int j = 0; j < 3; ++j) {
+        const double c = length(centre - closestOnSegment(centre, middle[j], corner[(j + 2) % 3]));
+        const double one = std::max({b(j) + std::max(c, bow[(j + 2) % 3]), b(j + 1) + std::max(c, bow[(j + 1) % 3]),
+                                     allows(j + 2, 0) ? b(j + 2) + std::max({c, bow[(j + 2) % 3], bow[(j + 1) % 3]}) : kInf});
+        bounds.one[j] = float(one * kRound);
+      }
+      const bool keepsMiddles = !(bounds.none <= tolerance);
+      if (keepsMiddles && !(bounds.all <= tolerance)) continue;
+      // The bound needs no side points but its corners and middles, which hold() checks in place
+      // of the sub-faces' pending pairs.
+      for (int k = 0; k < 3; ++k) {
+        tiles[k]->bound = keepsMiddles ? bounds.all : bounds.none, tiles[k]->tolerance = tolerance;
         tiles[k]->pendingPair = false;
         tiles[k]->faceTriangle = uint8_t(k + 1);
+        tiles[k]->faceMiddles = keepsMiddles;
       }
     }
   });
 }
 
-bool faceTrianglesHold(const AdaptivePlan& plan, const Stitching& stitching, const SurfaceTree& tree,
-                       std::vector<uint8_t>& refused) {
+bool FaceTriangles::hold(AdaptivePlan& plan, const Stitching& stitching, const SurfaceTree& tree) {
   bool held = true;
-  for (size_t t = 0; t < plan.tiles.size(); ++t) {
-    if (plan.tiles[t].faceTriangle == 0) continue;
-    size_t count;
-    stitching.side(t, 0, count);
-    if (count == 2) continue;
-    // Tile t is sub-face k of its face: the face of its root.
-    const size_t root = size_t(std::upper_bound(plan.rootFirstTile.begin(), plan.rootFirstTile.end(), uint32_t(t)) -
-                               plan.rootFirstTile.begin()) - 1;
-    refused[tree.roots[root].baseFace] = 1;
+  for (size_t r = 0; r + 1 < plan.rootFirstTile.size(); ++r) {
+    const size_t t = plan.rootFirstTile[r];
+    if (t == plan.rootFirstTile[r + 1] || plan.tiles[t].faceTriangle != 1) continue;
+    const int face = tree.roots[r].baseFace;
+    const Bounds& bounds = bounds_[face];
+    const int middles = faceTriangleMiddles(stitching, t);
+    float bound = INFINITY;  // two middles, or other points: no triangulation
+    if (middles == 0) bound = bounds.none;
+    if (middles == 7) bound = bounds.all;
+    if (middles > 0 && std::has_single_bit(unsigned(middles))) bound = bounds.one[std::countr_zero(unsigned(middles))];
+    if (bound <= plan.tiles[t].tolerance) {
+      for (size_t k = 0; k < 3; ++k) plan.tiles[t + k].bound = bound;
+      continue;
+    }
+    refused_[face] = 1;
     held = false;
   }
   return held;

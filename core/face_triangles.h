@@ -1,9 +1,11 @@
 // Triangular base faces as one triangle (docs/ADAPTIVE.md §6a). Catmull-Clark parameterizes a
 // triangle as three quad sub-faces, so planned root by root a triangle costs at least three
 // one-cell tiles (six triangles) and puts the middles of its edges on its neighbours' sides, where
-// OpenSubdiv's uniform rate 1 makes one triangle. When each sub-face became one one-cell tile and
-// the face's bound allows, the three tiles become one triangle through the face's limit corners;
-// it holds once stitched if no neighbour put a point on its edges, and is refused otherwise.
+// OpenSubdiv's uniform rate 1 makes one triangle. When each sub-face became one one-cell tile, the
+// face is the triangle through its limit corners, split at the middles of the edges that keep one:
+// one triangle with none, two with one, four with all three (two middles: refused). Which edges
+// keep their middles is known once stitched (a neighbour that puts one there); a face whose
+// triangle without middles is over ε but whose four triangles are within it keeps all three.
 #pragma once
 
 #include <cstdint>
@@ -16,15 +18,32 @@
 
 namespace tessera {
 
-// Marks (Tile::faceTriangle) the tiles of every triangular face not `refused` (per base face)
-// whose sub-faces are each one one-cell tile and whose triangle's bound is within their ε, and
-// gives those tiles the triangle's bound. Tile t of sub-face 0 has sub-faces 1 and 2 at t + 1, t + 2.
-void joinFaceTriangles(AdaptivePlan& plan, const PatchSet& patches, const AdaptiveSurface& surface,
-                       const std::vector<uint8_t>& refused);
+// The edges (bit k: edge k, from the face's corner k to k + 1) whose middle is a point of a face
+// triangle's sides, as stitched (sub-face 0's tile t: sub-faces 1 and 2 at t + 1, t + 2); -1 when
+// an edge has another point besides its corners and middle.
+int faceTriangleMiddles(const Stitching& stitching, size_t t);
 
-// Whether every face triangle's edges, as stitched, hold its corners alone; faces whose edges got
-// more points are marked in `refused` (their sub-faces' tiles serve them next time).
-bool faceTrianglesHold(const AdaptivePlan& plan, const Stitching& stitching, const SurfaceTree& tree,
-                       std::vector<uint8_t>& refused);
+class FaceTriangles {
+ public:
+  explicit FaceTriangles(size_t faces) : refused_(faces, 0), bounds_(faces) {}
+
+  // Marks (Tile::faceTriangle) the tiles of every triangular face not refused whose sub-faces are
+  // each one one-cell tile and whose triangle without middles, or else with all three, is within
+  // their ε; their bound becomes that triangulation's.
+  void join(AdaptivePlan& plan, const PatchSet& patches, const AdaptiveSurface& surface);
+
+  // Gives each face triangle the bound of the middles its edges kept once stitched; refuses (their
+  // sub-faces' tiles serve them next time) those whose middles have no triangulation within ε, and
+  // returns whether none was.
+  bool hold(AdaptivePlan& plan, const Stitching& stitching, const SurfaceTree& tree);
+
+ private:
+  // A face's bounds by the middles kept: none, all three, or only edge j's.
+  struct Bounds {
+    float none, all, one[3];
+  };
+  std::vector<uint8_t> refused_;
+  std::vector<Bounds> bounds_;
+};
 
 }  // namespace tessera

@@ -109,10 +109,12 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
 }
 
 // A face triangle's edge (core/face_triangles.h): sub-face k's side 0 stretched over the whole of
-// base edge k, one cell from the face's corner k to corner k + 1.
+// base edge k from the face's corner k to corner k + 1, one cell, or two that keep their middle.
 LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& line) {
   LineUse use = sideUse(tile, t, 0);
-  use.a = line.origin, use.sign = line.sign, use.exp = 0;
+  use.cells = tile.faceMiddles ? 2 : 1;
+  use.rigid = tile.faceMiddles;
+  use.a = line.origin * use.cells, use.sign = line.sign, use.exp = 0;
   use.t0 = 0, use.t1 = kLineScale;
   return use;
 }

@@ -1,7 +1,9 @@
 #include "core/tile_triangulation.h"
 
 #include <algorithm>
+#include <bit>
 
+#include "core/face_triangles.h"
 #include "core/small_vector.h"
 
 namespace tessera {
@@ -291,16 +293,27 @@ void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTr
   }
 }
 
-// A triangular face as one triangle (core/face_triangles.h): sub-face k's tile t + k starts its
-// side 0, the face's edge k, at the face's corner k; sub-face 0's tile emits it.
+// A triangular face as one triangle (core/face_triangles.h), split at the middles its edges kept:
+// sub-face k's tile t + k holds the face's edge k as its side 0, from corner k (its first point)
+// through the middle, if kept, to corner k + 1. Sub-face 0's tile emits the triangles.
 void faceTriangle(const Stitching& stitching, size_t t, const Tile& tile, TileTriangles& out) {
   if (tile.faceTriangle != 1) return;
-  uint32_t corner[3];
+  uint32_t corner[3], middle[3];
   for (size_t k = 0; k < 3; ++k) {
     size_t count;
-    corner[k] = stitching.side(t + k, 0, count)[0].vertex;
+    const SidePoint* points = stitching.side(t + k, 0, count);
+    corner[k] = points[0].vertex, middle[k] = points[1].vertex;
   }
-  out.emit(corner[0], corner[1], corner[2]);
+  const int middles = faceTriangleMiddles(stitching, t);
+  if (middles == 0) return out.emit(corner[0], corner[1], corner[2]);
+  if (middles == 7) {
+    for (int k = 0; k < 3; ++k) out.emit(corner[k], middle[k], middle[(k + 2) % 3]);
+    return out.emit(middle[0], middle[1], middle[2]);
+  }
+  // One middle, on edge j: the fold from it to the opposite corner.
+  const int j = std::countr_zero(unsigned(middles));
+  out.emit(corner[j], middle[j], corner[(j + 2) % 3]);
+  out.emit(middle[j], corner[(j + 1) % 3], corner[(j + 2) % 3]);
 }
 
 }  // namespace
