@@ -44,6 +44,11 @@ struct Tile {
   bool faceMiddles = false;
 
   double size() const { return exp2i(-level); }
+  // Whether side k (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) lies on its root's side k.
+  bool onRootSide(int k) const {
+    const uint64_t end = uint64_t(1) << level;
+    return k == 0 ? iy == 0 : k == 1 ? ix + 1 == end : k == 2 ? iy + 1 == end : ix == 0;
+  }
 };
 
 struct AdaptivePlan {

@@ -63,6 +63,13 @@ int faceTriangleMiddles(const Stitching& stitching, size_t t) {
   return middles;
 }
 
+float FaceTriangles::Bounds::forMiddles(int middles) const {
+  if (middles == 0) return none;
+  if (middles == 7) return all;
+  if (middles > 0 && std::has_single_bit(unsigned(middles))) return one[std::countr_zero(unsigned(middles))];
+  return INFINITY;  // two middles, or other points: no triangulation
+}
+
 // docs/ADAPTIVE.md §6a: each sub-face's cell is within its tile's bound b_k of its two triangles
 // through its corners (V_k, M_k, C, M_{k-1}), for the diagonal that bound assumes. A map that
 // sends those corners to points of the face's triangulation and is linear on each of the cell's
@@ -71,59 +78,125 @@ int faceTriangleMiddles(const Stitching& stitching, size_t t) {
 // middles stay; the others go to their edge's chord middle, and C to the centroid G (no middle),
 // the middles' centroid (all three, diagonal M_k–M_{k−1}) or the point of the fold M_j–V_{j+2}
 // nearest it (only M_j, sub-face j + 2 on diagonal V_{j+2}–C).
+void FaceTriangles::candidate(SurfaceEvaluator& evaluator, AdaptivePlan& plan, const AdaptiveSurface& surface, int f) {
+  mode_[f] = kNone;
+  if (refused_[f]) return;
+  const uint32_t first = joinableFace(plan, surface, f);
+  if (first == UINT32_MAX) return;
+  const Tile* tiles[3];
+  Vec3d corner[3], middle[3];
+  Bounds& bounds = bounds_[f];
+  bounds.tolerance = INFINITY;
+  for (uint32_t k = 0; k < 3; ++k) {
+    tiles[k] = &plan.tiles[plan.rootFirstTile[first + k]];
+    bounds.tolerance = std::min(bounds.tolerance, tiles[k]->tolerance);
+    const NodeSquare top{surface.tree.roots[first + k].node, 0, 0, 0};
+    corner[k] = evaluator.evaluate(top, 0, 0).position;
+    middle[k] = evaluator.evaluate(top, 1, 0).position;
+  }
+  const Vec3d centre = evaluator.evaluate({surface.tree.roots[first].node, 0, 0, 0}, 1, 1).position;
+  double bow[3];  // |M_k − chord middle of edge k|
+  for (int k = 0; k < 3; ++k) bow[k] = length(middle[k] - (corner[k] + corner[(k + 1) % 3]) * 0.5);
+  auto b = [&](int k) { return double(tiles[k % 3]->bound); };
+  // Which diagonal a sub-face's bound assumes (Tile::diagonal): 0 any, 1 + d diagonal d.
+  auto allows = [&](int k, int d) { return tiles[k % 3]->diagonal == 0 || tiles[k % 3]->diagonal == 1 + d; };
+  constexpr double kInf = INFINITY, kRound = 1 + 1e-9;
+  const double toCentroid = length(centre - (corner[0] + corner[1] + corner[2]) * (1.0 / 3));
+  const double toMiddles = length(centre - (middle[0] + middle[1] + middle[2]) * (1.0 / 3));
+  double none = 0, all = 0;
+  for (int k = 0; k < 3; ++k) {
+    none = std::max(none, b(k) + std::max({toCentroid, bow[k], bow[(k + 2) % 3]}));
+    all = std::max(all, allows(k, 1) ? b(k) + toMiddles : kInf);
+  }
+  bounds.none = float(none * kRound), bounds.all = float(all * kRound);
+  for (int j = 0; j < 3; ++j) {
+    const double c = length(centre - closestOnSegment(centre, middle[j], corner[(j + 2) % 3]));
+    const double one = std::max({b(j) + std::max(c, bow[(j + 2) % 3]), b(j + 1) + std::max(c, bow[(j + 1) % 3]),
+                                 allows(j + 2, 0) ? b(j + 2) + std::max({c, bow[(j + 2) % 3], bow[(j + 1) % 3]}) : kInf});
+    bounds.one[j] = float(one * kRound);
+  }
+  if (bounds.none <= bounds.tolerance) {
+    mode_[f] = kOneCell;
+  } else if (bounds.all <= bounds.tolerance) {
+    mode_[f] = kKeepsMiddles;
+  }
+}
+
+// The middles (bit k: edge k) the tiles beside face f put on its edges as planned, face triangles
+// beside it as they stand; -1 if one puts another point there. On a line the points are every
+// side's corners, then a side's own points wherever a gap is wider than its cell (§7), so with the
+// face's corners there a side adds none but the middle only if it spans the whole edge in at most
+// two cells or half of it in one.
+int FaceTriangles::neighbourMiddles(const AdaptivePlan& plan, const AdaptiveSurface& surface, int f) const {
+  const SeamLines& lines = surface.lines;
+  const uint32_t first = uint32_t(surface.tree.faceFirstRoot[f]);
+  int middles = 0;
+  for (int k = 0; k < 3; ++k) {
+    const SeamLines::Line& line = lines.lines[lines.lineOf[4 * size_t(first + k)]];
+    for (uint32_t i = line.firstSide; i < line.firstSide + line.sideCount; ++i) {
+      const uint32_t side = lines.rootSides[i], r = side / 4;
+      const int rootSide = int(side % 4);
+      if (r >= first && r < first + 3) continue;
+      const SurfaceRoot& root = surface.tree.roots[r];
+      if (root.subFace >= 0 && mode_[root.baseFace] != kNone) {
+        if (mode_[root.baseFace] == kKeepsMiddles) middles |= 1 << k;
+        continue;
+      }
+      const double halves = lines.sideLine[side].halves;
+      for (uint32_t t = plan.rootFirstTile[r]; t < plan.rootFirstTile[r + 1]; ++t) {
+        const Tile& tile = plan.tiles[t];
+        if (!tile.onRootSide(rootSide)) continue;
+        const int cells = rootSide == 0 || rootSide == 2 ? tile.ru : tile.rv;
+        const double span = tile.size() / halves;  // of the line, exact
+        if (span == 1 && cells <= 2) {
+          middles |= (cells == 2) << k;
+        } else if (span == 0.5 && cells == 1) {
+          middles |= 1 << k;
+        } else {
+          return -1;
+        }
+      }
+    }
+  }
+  return middles;
+}
+
 void FaceTriangles::join(AdaptivePlan& plan, const PatchSet& patches, const AdaptiveSurface& surface) {
   const int faces = int(surface.tree.faceFirstRoot.size());
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   tbb::parallel_for(tbb::blocked_range<int>(0, faces, 512), [&](const auto& range) {
     for (int f = range.begin(); f != range.end(); ++f) {
-      if (refused_[f]) continue;
-      const uint32_t first = joinableFace(plan, surface, f);
-      if (first == UINT32_MAX) continue;
-      SurfaceEvaluator& evaluator = evaluators.local();
-      Tile* tiles[3];
-      Vec3d corner[3], middle[3];
-      float tolerance = INFINITY;
-      for (uint32_t k = 0; k < 3; ++k) {
-        tiles[k] = &plan.tiles[plan.rootFirstTile[first + k]];
-        tolerance = std::min(tolerance, tiles[k]->tolerance);
-        const NodeSquare top{surface.tree.roots[first + k].node, 0, 0, 0};
-        corner[k] = evaluator.evaluate(top, 0, 0).position;
-        middle[k] = evaluator.evaluate(top, 1, 0).position;
-      }
-      const Vec3d centre = evaluator.evaluate({surface.tree.roots[first].node, 0, 0, 0}, 1, 1).position;
-      double bow[3];  // |M_k − chord middle of edge k|
-      for (int k = 0; k < 3; ++k) bow[k] = length(middle[k] - (corner[k] + corner[(k + 1) % 3]) * 0.5);
-      auto b = [&](int k) { return double(tiles[k % 3]->bound); };
-      // Which diagonal a sub-face's bound assumes (Tile::diagonal): 0 any, 1 + d diagonal d.
-      auto allows = [&](int k, int d) { return tiles[k % 3]->diagonal == 0 || tiles[k % 3]->diagonal == 1 + d; };
-      constexpr double kInf = INFINITY, kRound = 1 + 1e-9;
-      const double toCentroid = length(centre - (corner[0] + corner[1] + corner[2]) * (1.0 / 3));
-      double none = 0, all = 0;
-      const double toMiddles = length(centre - (middle[0] + middle[1] + middle[2]) * (1.0 / 3));
-      for (int k = 0; k < 3; ++k) {
-        none = std::max(none, b(k) + std::max({toCentroid, bow[k], bow[(k + 2) % 3]}));
-        all = std::max(all, allows(k, 1) ? b(k) + toMiddles : kInf);
-      }
-      Bounds& bounds = bounds_[f];
-      bounds.none = float(none * kRound), bounds.all = float(all * kRound);
-      for (int j = 0; j < 3; ++j) {
-        const double c = length(centre - closestOnSegment(centre, middle[j], corner[(j + 2) % 3]));
-        const double one = std::max({b(j) + std::max(c, bow[(j + 2) % 3]), b(j + 1) + std::max(c, bow[(j + 1) % 3]),
-                                     allows(j + 2, 0) ? b(j + 2) + std::max({c, bow[(j + 2) % 3], bow[(j + 1) % 3]}) : kInf});
-        bounds.one[j] = float(one * kRound);
-      }
-      const bool keepsMiddles = !(bounds.none <= tolerance);
-      if (keepsMiddles && !(bounds.all <= tolerance)) continue;
-      // The bound needs no side points but its corners and middles, which hold() checks in place
-      // of the sub-faces' pending pairs.
-      for (int k = 0; k < 3; ++k) {
-        tiles[k]->bound = keepsMiddles ? bounds.all : bounds.none, tiles[k]->tolerance = tolerance;
-        tiles[k]->pendingPair = false;
-        tiles[k]->faceTriangle = uint8_t(k + 1);
-        tiles[k]->faceMiddles = keepsMiddles;
-      }
+      if (surface.seams.faceSizes[f] == 3) candidate(evaluators.local(), plan, surface, f);
     }
   });
+  std::vector<int> candidates;
+  for (int f = 0; f < faces; ++f) {
+    if (mode_[f] != kNone) candidates.push_back(f);
+  }
+  // A face let go gives its neighbours middles: until none is.
+  for (bool dropped = true; dropped;) {
+    dropped = false;
+    for (int f : candidates) {
+      if (mode_[f] == kNone) continue;
+      const int middles = neighbourMiddles(plan, surface, f);
+      const bool fits = middles >= 0 && (mode_[f] == kKeepsMiddles || bounds_[f].forMiddles(middles) <= bounds_[f].tolerance);
+      if (!fits) mode_[f] = kNone, dropped = true;
+    }
+  }
+  for (int f : candidates) {
+    if (mode_[f] == kNone) continue;
+    // The bound needs no side points but its corners and middles, which hold() checks in place
+    // of the sub-faces' pending pairs.
+    const uint32_t first = uint32_t(surface.tree.faceFirstRoot[f]);
+    for (uint32_t k = 0; k < 3; ++k) {
+      Tile& tile = plan.tiles[plan.rootFirstTile[first + k]];
+      tile.bound = mode_[f] == kKeepsMiddles ? bounds_[f].all : bounds_[f].none;
+      tile.tolerance = bounds_[f].tolerance;
+      tile.pendingPair = false;
+      tile.faceTriangle = uint8_t(k + 1);
+      tile.faceMiddles = mode_[f] == kKeepsMiddles;
+    }
+  }
 }
 
 bool FaceTriangles::hold(AdaptivePlan& plan, const Stitching& stitching, const SurfaceTree& tree) {
@@ -132,12 +205,7 @@ bool FaceTriangles::hold(AdaptivePlan& plan, const Stitching& stitching, const S
     const size_t t = plan.rootFirstTile[r];
     if (t == plan.rootFirstTile[r + 1] || plan.tiles[t].faceTriangle != 1) continue;
     const int face = tree.roots[r].baseFace;
-    const Bounds& bounds = bounds_[face];
-    const int middles = faceTriangleMiddles(stitching, t);
-    float bound = INFINITY;  // two middles, or other points: no triangulation
-    if (middles == 0) bound = bounds.none;
-    if (middles == 7) bound = bounds.all;
-    if (middles > 0 && std::has_single_bit(unsigned(middles))) bound = bounds.one[std::countr_zero(unsigned(middles))];
+    const float bound = bounds_[face].forMiddles(faceTriangleMiddles(stitching, t));
     if (bound <= plan.tiles[t].tolerance) {
       for (size_t k = 0; k < 3; ++k) plan.tiles[t + k].bound = bound;
       continue;

@@ -14,6 +14,7 @@
 #include "core/adaptive_plan.h"
 #include "core/adaptive_surface.h"
 #include "core/patch_set.h"
+#include "core/surface_evaluation.h"
 #include "core/tile_stitching.h"
 
 namespace tessera {
@@ -25,11 +26,13 @@ int faceTriangleMiddles(const Stitching& stitching, size_t t);
 
 class FaceTriangles {
  public:
-  explicit FaceTriangles(size_t faces) : refused_(faces, 0), bounds_(faces) {}
+  explicit FaceTriangles(size_t faces) : refused_(faces, 0), mode_(faces, kNone), bounds_(faces) {}
 
   // Marks (Tile::faceTriangle) the tiles of every triangular face not refused whose sub-faces are
-  // each one one-cell tile and whose triangle without middles, or else with all three, is within
-  // their ε; their bound becomes that triangulation's.
+  // each one one-cell tile, whose triangle without middles, or else with all three, is within
+  // their ε, and whose neighbours' tiles, as planned, put no point on its edges but their middles
+  // and only middles it has a triangulation for within ε; their bound becomes that
+  // triangulation's.
   void join(AdaptivePlan& plan, const PatchSet& patches, const AdaptiveSurface& surface);
 
   // Gives each face triangle the bound of the middles its edges kept once stitched; refuses (their
@@ -38,11 +41,17 @@ class FaceTriangles {
   bool hold(AdaptivePlan& plan, const Stitching& stitching, const SurfaceTree& tree);
 
  private:
-  // A face's bounds by the middles kept: none, all three, or only edge j's.
+  enum Mode : uint8_t { kNone, kOneCell, kKeepsMiddles };  // edges of one cell, or two keeping the middle
+  // A face's bounds by the middles kept (none, all three, or only edge j's) and its ε.
   struct Bounds {
-    float none, all, one[3];
+    float none, all, one[3], tolerance;
+    float forMiddles(int middles) const;
   };
+  void candidate(SurfaceEvaluator& evaluator, AdaptivePlan& plan, const AdaptiveSurface& surface, int f);
+  int neighbourMiddles(const AdaptivePlan& plan, const AdaptiveSurface& surface, int f) const;
+
   std::vector<uint8_t> refused_;
+  std::vector<Mode> mode_;
   std::vector<Bounds> bounds_;
 };
 

@@ -90,11 +90,6 @@ struct LineRecord {
 
 constexpr int64_t at(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
 
-bool onRootBoundary(const Tile& tile, int k) {
-  const uint64_t end = uint64_t(1) << tile.level;
-  return k == 0 ? tile.iy == 0 : k == 1 ? tile.ix + 1 == end : k == 2 ? tile.iy + 1 == end : tile.ix == 0;
-}
-
 // Side k of tile t on a line, before its position there is set.
 LineUse sideUse(const Tile& tile, uint32_t t, int k) {
   LineUse use;
@@ -216,7 +211,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
     const int d = line.halves == 2 ? 1 : 0;
     for (uint32_t t = first; t < last; ++t) {
       const Tile& tile = plan_.tiles[t];
-      if (!onRootBoundary(tile, k)) continue;
+      if (!tile.onRootSide(k)) continue;
       if (tile.faceTriangle) {
         // Its only side on a line: the other half of edge k − 1 is the previous sub-face's, the
         // spokes have none.
@@ -242,7 +237,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     for (int k = 0; k < 4; ++k) {
-      if (onRootBoundary(tile, k)) continue;
+      if (tile.onRootSide(k)) continue;
       LineUse use = sideUse(tile, t, k);
       use.a = Int(k == 0 || k == 2 ? tile.ix : tile.iy) * use.cells;
       const uint64_t fixedIndex = k == 0 ? tile.iy : k == 1 ? tile.ix + 1 : k == 2 ? tile.iy + 1 : tile.ix;
