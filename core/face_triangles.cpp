@@ -49,6 +49,21 @@ Vec3d closestOnSegment(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
 
 }  // namespace
 
+line_points::LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& line) {
+  line_points::LineUse use;
+  use.cells = tile.faceMiddles ? 2 : 1;
+  use.rigid = tile.faceMiddles;
+  use.a = line.origin * use.cells, use.sign = line.sign, use.exp = 0;
+  use.tile = t, use.side = 0;
+  use.t0 = 0, use.t1 = kLineScale;
+  return use;
+}
+
+VertexRequest faceEdgePoint(const Tile& tile, uint32_t t, double along) {
+  if (along <= 0.5) return {t, 2 * along, 0, 0};
+  return {t - (tile.faceTriangle - 1u) + tile.faceTriangle % 3u, 0, 2 * (1 - along), 0};
+}
+
 int faceTriangleMiddles(const Stitching& stitching, size_t t) {
   int middles = 0;
   for (int k = 0; k < 3; ++k) {
@@ -78,7 +93,7 @@ float FaceTriangles::Bounds::forMiddles(int middles) const {
 // middles stay; the others go to their edge's chord middle, and C to the centroid G (no middle),
 // the middles' centroid (all three, diagonal M_k–M_{k−1}) or the point of the fold M_j–V_{j+2}
 // nearest it (only M_j, sub-face j + 2 on diagonal V_{j+2}–C).
-void FaceTriangles::candidate(SurfaceEvaluator& evaluator, AdaptivePlan& plan, const AdaptiveSurface& surface, int f) {
+void FaceTriangles::candidate(SurfaceEvaluator& evaluator, const AdaptivePlan& plan, const AdaptiveSurface& surface, int f) {
   mode_[f] = kNone;
   if (refused_[f]) return;
   const uint32_t first = joinableFace(plan, surface, f);

@@ -8,16 +8,28 @@
 // triangle without middles is over ε but whose four triangles are within it keeps all three.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "core/adaptive_plan.h"
 #include "core/adaptive_surface.h"
+#include "core/line_points.h"
 #include "core/patch_set.h"
 #include "core/surface_evaluation.h"
 #include "core/tile_stitching.h"
 
 namespace tessera {
+
+// Sub-face k's tile t of a face triangle on its face's edge k: its side 0 stretched over the whole
+// edge (`line`, its side 0's place there) from the face's corner k to k + 1, one cell, or two that
+// keep their middle.
+line_points::LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& line);
+
+// The point at `along` of that edge, evaluated in the sub-face whose half holds it: the first
+// half on sub-face k's side 0, the second on sub-face k + 1's side 3, which runs back from the
+// face's corner k + 1.
+VertexRequest faceEdgePoint(const Tile& tile, uint32_t t, double along);
 
 // The edges (bit k: edge k, from the face's corner k to k + 1) whose middle is a point of a face
 // triangle's sides, as stitched (sub-face 0's tile t: sub-faces 1 and 2 at t + 1, t + 2); -1 when
@@ -44,10 +56,10 @@ class FaceTriangles {
   enum Mode : uint8_t { kNone, kOneCell, kKeepsMiddles };  // edges of one cell, or two keeping the middle
   // A face's bounds by the middles kept (none, all three, or only edge j's) and its ε.
   struct Bounds {
-    float none, all, one[3], tolerance;
+    float none = INFINITY, all = INFINITY, one[3] = {INFINITY, INFINITY, INFINITY}, tolerance = 0;
     float forMiddles(int middles) const;
   };
-  void candidate(SurfaceEvaluator& evaluator, AdaptivePlan& plan, const AdaptiveSurface& surface, int f);
+  void candidate(SurfaceEvaluator& evaluator, const AdaptivePlan& plan, const AdaptiveSurface& surface, int f);
   int neighbourMiddles(const AdaptivePlan& plan, const AdaptiveSurface& surface, int f) const;
 
   std::vector<uint8_t> refused_;

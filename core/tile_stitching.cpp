@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/face_triangles.h"
 #include "core/line_points.h"
 
 namespace tessera {
@@ -100,17 +101,6 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
   use.rigid = (((tile.ru == 1) != (tile.rv == 1)) || tile.cellwise) && use.cells > 1;
   use.tile = t;
   use.side = uint8_t(k);
-  return use;
-}
-
-// A face triangle's edge (core/face_triangles.h): sub-face k's side 0 stretched over the whole of
-// base edge k from the face's corner k to corner k + 1, one cell, or two that keep their middle.
-LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& line) {
-  LineUse use = sideUse(tile, t, 0);
-  use.cells = tile.faceMiddles ? 2 : 1;
-  use.rigid = tile.faceMiddles;
-  use.a = line.origin * use.cells, use.sign = line.sign, use.exp = 0;
-  use.t0 = 0, use.t1 = kLineScale;
   return use;
 }
 
@@ -462,20 +452,13 @@ int Stitcher::boundaryQualifier(const LineUse& use, const SeamLines::Line& line,
   return line.sharp ? tree_.roots[root].baseFace : -1;
 }
 
-// Where the point at `along` of a use is evaluated: in its tile's root on the side's point; on a
-// face triangle's edge, the first half in sub-face k (its side 0) and the second in sub-face
-// k + 1 (its side 3, running back from the face's corner k + 1), each in its own root.
+// Where the point at `along` of a use is evaluated: in its tile's root on the side's point, or on
+// a face triangle's edge in the sub-face whose half holds it.
 VertexRequest Stitcher::pointOn(const LineUse& use, double along) const {
   const Tile& tile = plan_.tiles[use.tile];
+  if (tile.faceTriangle) return faceEdgePoint(tile, use.tile, along);
   VertexRequest request{use.tile, 0, 0, 0};
-  if (tile.faceTriangle == 0) {
-    sidePoint(tile, use.side, along, request.u, request.v);
-  } else if (along <= 0.5) {
-    request.u = 2 * along;
-  } else {
-    request.tile = use.tile - (tile.faceTriangle - 1) + tile.faceTriangle % 3;
-    request.v = 2 * (1 - along);
-  }
+  sidePoint(tile, use.side, along, request.u, request.v);
   return request;
 }
 
