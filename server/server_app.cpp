@@ -165,8 +165,14 @@ class WithoutReflection : public grpc::ServerBuilderOption {
   }
 };
 
+// A service to register and the name health checks ask for it by.
+struct NamedService {
+  grpc::Service* service;
+  const char* name;
+};
+
 std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
-                                              const std::vector<grpc::Service*>& services,
+                                              const std::vector<NamedService>& services,
                                               bool reflection, ServerMetrics& metrics, int* port) {
   grpc::EnableDefaultHealthCheckService(true);
   // Linking gRPC's reflection library registers its plugin for every builder at load time, so
@@ -175,7 +181,7 @@ std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
   grpc::ServerBuilder builder;
   if (!reflection) builder.SetOption(std::make_unique<WithoutReflection>());
   builder.AddListeningPort(config.listen, serverCredentials(config), port);
-  for (grpc::Service* service : services) builder.RegisterService(service);
+  for (const NamedService& named : services) builder.RegisterService(named.service);
   grpc::ResourceQuota quota("tessera-server");
   quota.SetMaxThreads(kMaxServerThreads);
   builder.SetResourceQuota(quota);
@@ -184,6 +190,9 @@ std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
   builder.experimental().SetInterceptorCreators(std::move(observers));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || *port == 0) return nullptr;
+  // Health answers for the server ("") and for each service by name; later changes of the
+  // serving status (the store's health, shutdown) apply to all of them.
+  for (const NamedService& named : services) server->GetHealthCheckService()->SetServingStatus(named.name, true);
   server->GetHealthCheckService()->SetServingStatus(true);
   return server;
 }
@@ -259,8 +268,12 @@ int runServer(const ServerConfig& config) {
   bool reflection = config.reflection && config.token.empty();
   int port = 0;
   std::unique_ptr<grpc::Server> server = startGrpcServer(
-      config, {&meshService, &tessellationService, &renderService, &infoService}, reflection,
-      metrics, &port);
+      config,
+      {{&meshService, tessera::v1::MeshService::service_full_name()},
+       {&tessellationService, tessera::v1::TessellationService::service_full_name()},
+       {&renderService, tessera::v1::RenderService::service_full_name()},
+       {&infoService, tessera::v1::ServerInfoService::service_full_name()}},
+      reflection, metrics, &port);
   if (!server) {
     spdlog::critical("cannot listen on {}", config.listen);
     return 1;

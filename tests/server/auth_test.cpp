@@ -59,6 +59,31 @@ TEST(Auth, HealthChecksNeedNoTokenWhileEveryOtherCallDoes) {
   EXPECT_TRUE(serverInfo(*server, "s3cret").ok());
 }
 
+// Load balancers and orchestrators ask health per service: each of the server's services answers
+// by its full name, as the server itself ("") does, and an unknown name is NOT_FOUND.
+TEST(Auth, HealthAnswersForEveryServiceByName) {
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  auto health = grpc::health::v1::Health::NewStub(server->channel());
+  for (const char* name : {"", "tessera.v1.MeshService", "tessera.v1.TessellationService", "tessera.v1.RenderService",
+                           "tessera.v1.ServerInfoService", "tessera.v1.NoSuchService"}) {
+    SCOPED_TRACE(name);
+    grpc::ClientContext context;
+    prepare(context);
+    grpc::health::v1::HealthCheckRequest request;
+    request.set_service(name);
+    grpc::health::v1::HealthCheckResponse response;
+    const grpc::Status status = health->Check(&context, request, &response);
+    if (std::string(name) == "tessera.v1.NoSuchService") {
+      EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+    } else {
+      ASSERT_TRUE(status.ok()) << status.error_message();
+      EXPECT_EQ(response.status(), grpc::health::v1::HealthCheckResponse::SERVING);
+    }
+  }
+}
+
 // A server that other machines can reach says so at start when it has no token. (The server
 // listens on every address here, but the test talks to none of them.)
 TEST(Auth, ListeningBeyondLoopbackWithoutATokenIsWarnedAbout) {

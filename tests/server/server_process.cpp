@@ -73,15 +73,17 @@ pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>
 static_assert(kServing == grpc::health::v1::HealthCheckResponse::SERVING &&
               kNotServing == grpc::health::v1::HealthCheckResponse::NOT_SERVING);
 
-bool waitForHealth(const std::shared_ptr<grpc::Channel>& channel, int wanted) {
+bool waitForHealth(const std::shared_ptr<grpc::Channel>& channel, int wanted, const std::string& service) {
   auto stub = grpc::health::v1::Health::NewStub(channel);
   auto giveUp = std::chrono::steady_clock::now() + kStartLimit;
   while (std::chrono::steady_clock::now() < giveUp) {
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(2));
     context.set_wait_for_ready(true);
+    grpc::health::v1::HealthCheckRequest request;
+    request.set_service(service);
     grpc::health::v1::HealthCheckResponse response;
-    grpc::Status status = stub->Check(&context, {}, &response);
+    grpc::Status status = stub->Check(&context, request, &response);
     if (status.ok() && int(response.status()) == wanted) return true;
     std::this_thread::sleep_for(kPollInterval);
   }

@@ -53,8 +53,9 @@ class ServerProcess {
 };
 
 // Waits (with a generous limit) until the server at channel reports `wanted` (the numbers of
-// grpc.health.v1's ServingStatus: 1 SERVING, 2 NOT_SERVING); false if it never does.
+// grpc.health.v1's ServingStatus: 1 SERVING, 2 NOT_SERVING) for `service` ("": the server);
+// false if it never does.
 inline constexpr int kServing = 1, kNotServing = 2;
-bool waitForHealth(const std::shared_ptr<grpc::Channel>& channel, int wanted);
+bool waitForHealth(const std::shared_ptr<grpc::Channel>& channel, int wanted, const std::string& service = "");
 
 }  // namespace tessera::test

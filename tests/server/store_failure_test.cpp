@@ -48,6 +48,7 @@ TEST(StoreFailure, ADamagedSqliteStoreIsUnavailableWithoutItsInternals) {
                                      /*awaitServing=*/false);
   ASSERT_TRUE(server);
   EXPECT_TRUE(waitForHealth(server->channel(), kNotServing));
+  EXPECT_TRUE(waitForHealth(server->channel(), kNotServing, "tessera.v1.TessellationService"));
   const grpc::Status status = listMeshes(*server);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE) << status.error_message();
   EXPECT_NE(status.error_message().find("mesh store unavailable"), std::string::npos) << status.error_message();
