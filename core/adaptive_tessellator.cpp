@@ -87,11 +87,10 @@ void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool
 // (2, 1) (sub-face 1's (1, 0)) and (0, 1).
 void faceTriangleParameters(const Stitching& stitching, size_t t, const uint32_t* corners, double* st) {
   static constexpr double kCorner[3][2] = {{0, 0}, {2, 0}, {0, 2}}, kMiddle[3][2] = {{1, 0}, {2, 1}, {0, 1}};
+  const FaceTrianglePoints face = faceTrianglePoints(stitching, t);
   for (int c = 0; c < 3; ++c) {
-    for (size_t k = 0; k < 3; ++k) {
-      size_t count;
-      const SidePoint* points = stitching.side(t + k, 0, count);
-      const double* at = points[0].vertex == corners[c] ? kCorner[k] : count == 3 && points[1].vertex == corners[c] ? kMiddle[k] : nullptr;
+    for (int k = 0; k < 3; ++k) {
+      const double* at = face.corner[k] == corners[c] ? kCorner[k] : face.middle[k] == corners[c] ? kMiddle[k] : nullptr;
       if (at) st[2 * c] = at[0], st[2 * c + 1] = at[1];
     }
   }

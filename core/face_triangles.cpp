@@ -64,18 +64,20 @@ VertexRequest faceEdgePoint(const Tile& tile, uint32_t t, double along) {
   return {t - (tile.faceTriangle - 1u) + tile.faceTriangle % 3u, 0, 2 * (1 - along), 0};
 }
 
-int faceTriangleMiddles(const Stitching& stitching, size_t t) {
-  int middles = 0;
+FaceTrianglePoints faceTrianglePoints(const Stitching& stitching, size_t t) {
+  FaceTrianglePoints face{{}, {UINT32_MAX, UINT32_MAX, UINT32_MAX}, 0};
   for (int k = 0; k < 3; ++k) {
     size_t count;
     const SidePoint* points = stitching.side(t + size_t(k), 0, count);
+    face.corner[k] = points[0].vertex;
     if (count == 3 && points[1].at == 0.5) {
-      middles |= 1 << k;
+      face.middle[k] = points[1].vertex;
+      face.middles |= 1 << k;
     } else if (count != 2) {
-      return -1;
+      face.middles = -1;
     }
   }
-  return middles;
+  return face;
 }
 
 float FaceTriangles::Bounds::forMiddles(int middles) const {
@@ -220,7 +222,7 @@ bool FaceTriangles::hold(AdaptivePlan& plan, const Stitching& stitching, const S
     const size_t t = plan.rootFirstTile[r];
     if (t == plan.rootFirstTile[r + 1] || plan.tiles[t].faceTriangle != 1) continue;
     const int face = tree.roots[r].baseFace;
-    const float bound = bounds_[face].forMiddles(faceTriangleMiddles(stitching, t));
+    const float bound = bounds_[face].forMiddles(faceTrianglePoints(stitching, t).middles);
     if (bound <= plan.tiles[t].tolerance) {
       for (size_t k = 0; k < 3; ++k) plan.tiles[t + k].bound = bound;
       continue;

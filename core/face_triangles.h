@@ -31,10 +31,15 @@ line_points::LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& l
 // face's corner k + 1.
 VertexRequest faceEdgePoint(const Tile& tile, uint32_t t, double along);
 
-// The edges (bit k: edge k, from the face's corner k to k + 1) whose middle is a point of a face
-// triangle's sides, as stitched (sub-face 0's tile t: sub-faces 1 and 2 at t + 1, t + 2); -1 when
-// an edge has another point besides its corners and middle.
-int faceTriangleMiddles(const Stitching& stitching, size_t t);
+// A face triangle's points as stitched (sub-face 0's tile t: sub-faces 1 and 2 at t + 1, t + 2):
+// the vertices of the face's corners and of the middles its edges keep; `middles` has bit k for
+// edge k (from corner k to k + 1) keeping its middle, -1 when an edge has another point besides
+// its corners and middle.
+struct FaceTrianglePoints {
+  uint32_t corner[3], middle[3];
+  int middles;
+};
+FaceTrianglePoints faceTrianglePoints(const Stitching& stitching, size_t t);
 
 class FaceTriangles {
  public:

@@ -298,13 +298,9 @@ void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTr
 // through the middle, if kept, to corner k + 1. Sub-face 0's tile emits the triangles.
 void faceTriangle(const Stitching& stitching, size_t t, const Tile& tile, TileTriangles& out) {
   if (tile.faceTriangle != 1) return;
-  uint32_t corner[3], middle[3];
-  for (size_t k = 0; k < 3; ++k) {
-    size_t count;
-    const SidePoint* points = stitching.side(t + k, 0, count);
-    corner[k] = points[0].vertex, middle[k] = points[1].vertex;
-  }
-  const int middles = faceTriangleMiddles(stitching, t);
+  const FaceTrianglePoints face = faceTrianglePoints(stitching, t);
+  const uint32_t *corner = face.corner, *middle = face.middle;
+  const int middles = face.middles;
   if (middles == 0) return out.emit(corner[0], corner[1], corner[2]);
   if (middles == 7) {
     for (int k = 0; k < 3; ++k) out.emit(corner[k], middle[k], middle[(k + 2) % 3]);
