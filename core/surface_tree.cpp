@@ -9,6 +9,7 @@
 #include "core/depth_bound.h"
 #include "core/error.h"
 #include "core/fas.h"
+#include "core/flat_pair_bound.h"
 #include "core/graded_pair_bound.h"
 #include "core/innermost_patch.h"
 #include "core/ring_patches.h"
@@ -314,7 +315,7 @@ void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) c
 // An exact piece's pair through a graded diagonal map (§3c), kept where it is smaller than §3's at
 // equal parameters. Only where that could matter: the equal-parameter bound is well above the
 // lower bound every pair bound has, and above the finest tolerance the tree serves.
-void TreeBuilder::tightenLeafPair(SurfaceNode& node, const BezierNet& net) const {
+void TreeBuilder::gradeLeafPair(SurfaceNode& node, const BezierNet& net) const {
   if (!(node.pairBound > kGradedFloor * floor_) || !(node.pairBound > kGradedSlack * pairLowerBound(net))) return;
   // Worth its cost only where it can take off a fifth at least.
   const std::optional<PairBounds> graded = gradedPairBounds(net, 0.8 * node.pairBound);
@@ -324,6 +325,20 @@ void TreeBuilder::tightenLeafPair(SurfaceNode& node, const BezierNet& net) const
   node.pairBound = roundUp(pair);
   for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(graded->bows[side] * (1 + 1e-9));
   node.pairDiagonal = graded->diagonal;
+}
+
+// A nearly flat piece's pair by projection onto one plane (§3d), kept where it is smaller.
+void TreeBuilder::flattenLeafPair(SurfaceNode& node, const BezierNet& net) const {
+  PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
+  if (!keepFlatBound(net, bounds)) return;
+  node.pairBound = roundUp(bounds.pair);
+  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
+  node.pairDiagonal = bounds.diagonal;
+}
+
+void TreeBuilder::tightenLeafPair(SurfaceNode& node, const BezierNet& net) const {
+  gradeLeafPair(node, net);
+  flattenLeafPair(node, net);
 }
 
 // Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and

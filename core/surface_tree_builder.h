@@ -81,6 +81,8 @@ class TreeBuilder {
   void setBox(uint32_t node, const ChainStep* step);
   void setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
   void tightenLeafPair(SurfaceNode& node, const BezierNet& net) const;
+  void gradeLeafPair(SurfaceNode& node, const BezierNet& net) const;
+  void flattenLeafPair(SurfaceNode& node, const BezierNet& net) const;
   struct Ancestor {
     uint32_t node;
     int level;
