@@ -112,8 +112,10 @@ class Planner {
   Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
       : tree_(tree), patches_(patches), options_(options), tolerance_(options, patches) {}
   void planRoot(uint32_t root, std::vector<Tile>& out) const;
-  // The square of tile `tile` of `root` planned again with no optimistic one-cell tiles.
-  void planSquare(uint32_t root, const Tile& tile, std::vector<Tile>& out) const;
+  // The square of tile `tile` of `root` planned again with no optimistic one-cell tiles; a
+  // pending cell-wise tile's square with its quadrants' tiles unmerged, those that the points on
+  // `sides` (bit k: the square's side k got points) break planned again without the shortcut.
+  void planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::vector<Tile>& out) const;
 
  private:
   struct Candidate {
@@ -158,10 +160,11 @@ class Planner {
   const PatchSet& patches_;
   const TessellationOptions& options_;
   const ToleranceModel tolerance_;
-  // The current root's pinched corners (beginRoot sets them), and whether optimistic one-cell
-  // tiles are off (planSquare).
+  // The current root's pinched corners (beginRoot sets them), whether optimistic one-cell
+  // tiles are off and whether quadrants are merged (planSquare).
   mutable uint8_t rootPinched_ = 0;
   mutable bool conservative_ = false;
+  mutable bool merging_ = true;
 };
 
 Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
@@ -408,28 +411,45 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   if (grid.feasible() && grid.triangles() - childTriangles < kSplitSaving) return emit(c, grid, out);
   const size_t first = out.size();
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
-  mergeCellwise(c, first, out);
+  if (merging_) mergeCellwise(c, first, out);
 }
 
 // Four quadrants planned as one-cell tiles (or cell-wise tiles of one rate) become one cell-wise
 // tile over the node: the same triangles, one tile's work. Sides between the quadrants get no
 // points beside their own, so only the outer sides keep the pending quadrants' bows: the merged
 // tile is pending if any quadrant was, with side k's bow the largest of the quadrants along it.
+// Each cell keeps the diagonal its bound needs: cells that allow either take the one the others
+// keep, and up to 4 × 4 cells, cells that keep different ones say so each (Tile::cellDiagonals).
 void Planner::mergeCellwise(const Candidate& c, size_t first, std::vector<Tile>& out) const {
   if (out.size() != first + 4) return;
-  const Tile& head = out[first];
-  for (size_t i = first; i < out.size(); ++i) {
-    const Tile& t = out[i];
+  const int rc = out[first].ru, r = 2 * rc;
+  if (r > kMaxTileRate) return;
+  uint8_t diagonal = 0;
+  bool mixed = false;
+  uint32_t cellDiagonals = 0;
+  for (int q = 0; q < 4; ++q) {
+    const Tile& t = out[first + size_t(q)];
     const bool cells = (t.ru == 1 && t.rv == 1) || t.cellwise;
-    if (!cells || t.diagonal != head.diagonal || t.ru != head.ru || t.rv != head.rv || t.level != c.level + 1) return;
+    if (!cells || t.ru != rc || t.rv != rc || t.level != c.level + 1) return;
+    for (int j = 0; j < rc; ++j) {
+      for (int i = 0; i < rc; ++i) {
+        const uint8_t d = t.cellDiagonal(i, j);
+        mixed = mixed || (d != 0 && diagonal != 0 && d != diagonal);
+        if (diagonal == 0) diagonal = d;
+        const int at = (q & 1) * rc + i + r * ((q >> 1) * rc + j);
+        if (r <= 4) cellDiagonals |= uint32_t(d) << (2 * at);
+      }
+    }
   }
-  if (2 * head.ru > kMaxTileRate) return;
+  if (mixed && r > 4) return;
   Tile merged;
   merged.node = c.real;
   merged.level = c.level, merged.ix = c.ix, merged.iy = c.iy;
-  merged.ru = merged.rv = 2 * head.ru;
+  merged.ru = merged.rv = r;
   merged.cellwise = true;
-  merged.diagonal = head.diagonal;
+  merged.diagonal = mixed ? 0 : diagonal;
+  merged.cellDiagonals = mixed ? cellDiagonals : 0;
+  const Tile& head = out[first];
   merged.bound = 0, merged.tolerance = head.tolerance;
   for (size_t i = first; i < out.size(); ++i) {
     const Tile& t = out[i];
@@ -460,14 +480,16 @@ void Planner::beginRoot(uint32_t root) const {
 
 void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
   beginRoot(root);
-  conservative_ = false;
+  conservative_ = false, merging_ = true;
   Candidate top = realCandidate({tree_.roots[root].node, 0, 0, 0});
   plan(top, gridFor(top), out);
 }
 
-void Planner::planSquare(uint32_t root, const Tile& tile, std::vector<Tile>& out) const {
+void Planner::planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::vector<Tile>& out) const {
   beginRoot(root);
-  conservative_ = true;
+  // A merged tile fails on some quadrants' sides, most often: the others keep the shortcut.
+  const bool unmerge = tile.cellwise && tile.pendingPair;
+  conservative_ = !unmerge, merging_ = !unmerge;
   // The tile's node, then de Casteljau quadrants down to the tile when it lies below a leaf.
   Candidate c = realCandidate(tile.node);
   while (c.level < tile.level) {
@@ -476,7 +498,24 @@ void Planner::planSquare(uint32_t root, const Tile& tile, std::vector<Tile>& out
     const BezierNet net = quadrantNet(c.below ? c.net : pieceNet(tree_, patches_, c.real.node), q & 1, q >> 1);
     c = quadrantCandidate(c, net, q);
   }
-  plan(c, gridFor(c), out);
+  if (!unmerge) return plan(c, gridFor(c), out);
+  std::vector<Tile> parts;
+  plan(c, gridFor(c), parts);
+  for (const Tile& part : parts) {
+    // Its sides on the square's sides that got points.
+    uint8_t onSides = 0;
+    for (int k = 0; k < 4; ++k) {
+      const int d = part.level - tile.level;
+      const uint64_t x = part.ix - (tile.ix << d), y = part.iy - (tile.iy << d), last = (uint64_t(1) << d) - 1;
+      const bool on = k == 0 ? y == 0 : k == 1 ? x == last : k == 2 ? y == last : x == 0;
+      onSides |= uint8_t((on && (sides >> k & 1)) << k);
+    }
+    if (part.pendingPair && part.boundWithPoints(onSides) > part.tolerance) {
+      planSquare(root, part, 0, out);
+    } else {
+      out.push_back(part);
+    }
+  }
 }
 
 }  // namespace
@@ -510,12 +549,12 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
       const uint32_t r = failed[roots[i].first].root;
       replaced.clear();
       for (const Tile& tile : tiles[r]) {
-        const bool redo = std::any_of(failed.begin() + roots[i].first, failed.begin() + roots[i].second,
-                                      [&tile](const TileSquare& q) {
-                                        return q.level == tile.level && q.ix == tile.ix && q.iy == tile.iy;
-                                      });
-        if (redo) {
-          planner.planSquare(r, tile, replaced);
+        const auto redo = std::find_if(failed.begin() + roots[i].first, failed.begin() + roots[i].second,
+                                       [&tile](const TileSquare& q) {
+                                         return q.level == tile.level && q.ix == tile.ix && q.iy == tile.iy;
+                                       });
+        if (redo != failed.begin() + roots[i].second) {
+          planner.planSquare(r, tile, redo->sidesWithPoints, replaced);
         } else {
           replaced.push_back(tile);
         }

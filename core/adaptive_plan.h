@@ -6,6 +6,7 @@
 // its de Casteljau quadrants.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -34,8 +35,11 @@ struct Tile {
   bool cellwise = false;
   // A one-cell tile whose bound holds only split along one diagonal (SurfaceNode::pairDiagonal):
   // 0 any, 1 + d diagonal d (0: corners 0–2, 1: corners 1–3); a cell-wise tile's cells all keep
-  // it (only tiles that agree are merged).
+  // it, unless cellDiagonals says otherwise.
   uint8_t diagonal = 0;
+  // A cell-wise tile of at most 4 × 4 cells whose cells keep different diagonals: cell (i, j)'s
+  // (as `diagonal`) in bits 2 (i + ru j) and up; 0 when every cell keeps `diagonal`.
+  uint32_t cellDiagonals = 0;
   // 1 + k: the one-cell tile of sub-face k of a triangular base face whose three sub-faces are
   // tessellated together as the triangle through the face's corners, split at the middles its
   // edges keep (core/face_triangles.h); faceMiddles: its edges keep their middles whatever the
@@ -44,6 +48,17 @@ struct Tile {
   bool faceMiddles = false;
 
   double size() const { return exp2i(-level); }
+  // A pending tile's bound once it is known which sides get points beside its own (bit k: side k).
+  float boundWithPoints(uint8_t sides) const {
+    float bow = 0;
+    for (int k = 0; k < 4; ++k) {
+      if (sides >> k & 1) bow = std::max(bow, sideBow[k]);
+    }
+    return bound + bow;
+  }
+  uint8_t cellDiagonal(int i, int j) const {
+    return cellDiagonals ? uint8_t(cellDiagonals >> (2 * (i + ru * j)) & 3) : diagonal;
+  }
   // Whether side k (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) lies on its root's side k.
   bool onRootSide(int k) const {
     const uint64_t end = uint64_t(1) << level;
@@ -67,6 +82,7 @@ struct TileSquare {
   uint32_t root;
   int level;
   uint64_t ix, iy;
+  uint8_t sidesWithPoints = 0xF;  // bit k: side k got points beside its own (as known)
   friend bool operator<(const TileSquare& a, const TileSquare& b) { return a.root < b.root; }
 };
 
@@ -77,7 +93,8 @@ using RootTiles = std::vector<std::vector<Tile>>;
 void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles);
 
 // Each failed pending tile (`failed` sorted by root) replaced in place by the tiles of its square
-// planned without the optimistic shortcut.
+// planned without the optimistic shortcut (a merged cell-wise tile's: its quadrants unmerged, the
+// shortcut kept, so that only those that fail on their own lose it next).
 void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
                    const std::vector<TileSquare>& failed, RootTiles& tiles);
 

@@ -195,16 +195,6 @@ void splitFoldNormals(TriangleMesh& mesh) {
   }
 }
 
-// A pending tile's bound (one-cell or cell-wise): the pair plus the largest bow of a side that
-// gets points beside its own grid points (docs/ADAPTIVE.md §3, §6).
-float pairBound(const Tile& tile, const bool points[4]) {
-  float bow = 0;
-  for (int k = 0; k < 4; ++k) {
-    if (points[k]) bow = std::max(bow, tile.sideBow[k]);
-  }
-  return tile.bound + bow;
-}
-
 // Checks the pending tiles of `roots` against their neighbours; returns the squares of those
 // whose bound breaks their ε.
 std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors& neighbors,
@@ -215,9 +205,9 @@ std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors
     for (uint32_t t = 0; t < tiles[r].size(); ++t) {
       const Tile& tile = tiles[r][t];
       if (!tile.pendingPair) continue;
-      bool points[4];
-      for (int k = 0; k < 4; ++k) points[k] = neighbors.sideGetsPoints(r, t, k);
-      if (pairBound(tile, points) > tile.tolerance) failed[i].push_back({r, tile.level, tile.ix, tile.iy});
+      uint8_t sides = 0;
+      for (int k = 0; k < 4; ++k) sides |= uint8_t(neighbors.sideGetsPoints(r, t, k) << k);
+      if (tile.boundWithPoints(sides) > tile.tolerance) failed[i].push_back({r, tile.level, tile.ix, tile.iy, sides});
     }
   });
   std::vector<TileSquare> all;
@@ -264,16 +254,17 @@ bool settlePending(AdaptivePlan& plan, const Stitching& stitching, std::vector<T
     Tile& tile = plan.tiles[t];
     while (plan.rootFirstTile[root + 1] <= t) ++root;
     if (tile.pendingPair) {
-      bool points[4];
+      uint8_t sides = 0;
       for (int k = 0; k < 4; ++k) {
         // Points beside the side's own grid points (its corners, for a one-cell tile).
         size_t count;
         stitching.side(t, k, count);
-        points[k] = count > size_t(k == 0 || k == 2 ? tile.ru : tile.rv) + 1;
+        sides |= uint8_t((count > size_t(k == 0 || k == 2 ? tile.ru : tile.rv) + 1) << k);
       }
-      tile.bound = pairBound(tile, points);
+      const float bound = tile.boundWithPoints(sides);
+      if (bound > tile.tolerance) failed.push_back({uint32_t(root), tile.level, tile.ix, tile.iy, sides});
+      tile.bound = bound;
       tile.pendingPair = false;
-      if (tile.bound > tile.tolerance) failed.push_back({uint32_t(root), tile.level, tile.ix, tile.iy});
     }
     plan.guaranteedBound = std::max(plan.guaranteedBound, double(tile.bound));
   }
@@ -300,7 +291,8 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
       ++layout.rounds;
       const std::vector<TileSquare> failed = checkPending(tiles, neighbors, check);
       if (failed.empty()) break;
-      // A failed square is planned with no pending tiles, so the rounds end.
+      // A failed square is planned with no pending tiles (a merged tile's with its quadrants
+      // unmerged, which can fail once more), so the rounds end.
       replanSquares(surface.tree, patches, options, failed, tiles);
       reindex(neighbors, failed);
       check = affectedRoots(surface.rootSeams, failed, surface.tree.roots.size());

@@ -288,7 +288,7 @@ void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTr
       cell[1] = i + 1 == r ? piece(1, j) : segment(lattice(i + 1, j), lattice(i + 1, j + 1));
       cell[2] = reversed(j + 1 == r ? piece(2, i) : segment(lattice(i, j + 1), lattice(i + 1, j + 1)));
       cell[3] = reversed(i == 0 ? piece(3, j) : segment(lattice(i, j), lattice(i, j + 1)));
-      triangulateCell(cell, out, tile.diagonal);
+      triangulateCell(cell, out, tile.cellDiagonal(i, j));
     }
   }
 }

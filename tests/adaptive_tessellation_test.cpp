@@ -4,7 +4,10 @@
 // triangle, fewer triangles where the surface is flatter, and coarse requests that stay coarse.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -489,6 +492,59 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
     ++checked;
   }
   EXPECT_GT(checked, 4 * cellwise);
+}
+
+// Quadrants whose bounds need different diagonals (SurfaceNode::pairDiagonal) merge too
+// (Tile::cellDiagonals): each such cell of a cell-wise tile is split along the diagonal it needs,
+// an edge between its two corners, found among the tile's triangles by their parameters.
+TEST(AdaptiveTessellation, CellwiseTilesKeepEachCellsDiagonal) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  const TessellationResult result = tessellateAt(mesh, set, 1e-3);
+  TessellationOptions options;
+  options.tolerance = 1e-3;
+  options.relativeTolerance = true;
+  const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
+  ASSERT_EQ(layout.plan.tiles.size(), size_t(result.summary.pieces));
+  // Per tile, its triangles' corners in cell units of the tile.
+  std::map<uint32_t, std::vector<std::array<double, 6>>> corners;
+  for (size_t t = 0; t < result.mesh.triangleCount(); ++t) {
+    const uint32_t piece = result.mesh.trianglePiece[t];
+    const Tile& tile = layout.plan.tiles[piece];
+    if (!tile.cellDiagonals) continue;
+    std::array<double, 6> st;
+    for (int k = 0; k < 3; ++k) {
+      st[2 * k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.size() - double(tile.ix)) * tile.ru;
+      st[2 * k + 1] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.size() - double(tile.iy)) * tile.rv;
+    }
+    corners[piece].push_back(st);
+  }
+  size_t mixedTiles = 0, checkedCells = 0;
+  for (const auto& [piece, triangles] : corners) {
+    const Tile& tile = layout.plan.tiles[piece];
+    ++mixedTiles;
+    for (int j = 0; j < tile.rv; ++j) {
+      for (int i = 0; i < tile.ru; ++i) {
+        const int d = tile.cellDiagonal(i, j);
+        if (d == 0) continue;
+        // Diagonal 0 joins corners (i, j) and (i + 1, j + 1), diagonal 1 (i + 1, j) and (i, j + 1).
+        const double a[2] = {double(i + (d == 2)), double(j)}, b[2] = {double(i + (d == 1)), double(j + 1)};
+        auto has = [](const std::array<double, 6>& st, const double* p) {
+          for (int k = 0; k < 3; ++k) {
+            if (std::abs(st[2 * k] - p[0]) < 1e-9 && std::abs(st[2 * k + 1] - p[1]) < 1e-9) return true;
+          }
+          return false;
+        };
+        const bool kept = std::any_of(triangles.begin(), triangles.end(),
+                                      [&](const std::array<double, 6>& st) { return has(st, a) && has(st, b); });
+        EXPECT_TRUE(kept) << "tile " << piece << " cell (" << i << ", " << j << ") diagonal " << d - 1;
+        ++checkedCells;
+      }
+    }
+  }
+  EXPECT_GT(mixedTiles, 10u);
+  std::printf("bigguy at 1e-3: %zu cell-wise tiles whose cells keep different diagonals, %zu cells checked\n",
+              mixedTiles, checkedCells);
 }
 
 }  // namespace
