@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <set>
+#include <string>
 
 #include "core/adaptive_surface.h"
 #include "core/surface_tree.h"
@@ -449,18 +450,32 @@ TEST(AdaptiveTessellation, CoarseRequestsUseCoarseTiles) {
   EXPECT_LT(layout.plan.tiles.size() * 20, pieces) << layout.plan.tiles.size() << " tiles for " << pieces << " pieces";
 }
 
+// A model's output at a relative tolerance, with each triangle's tile and parameters, beside the
+// plan that made it (planned again: planning is deterministic, so the tiles are the output's).
+struct Planned {
+  TessellationResult result;
+  AdaptiveLayout layout;
+};
+
+Planned planAt(const std::string& model, double relative) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/" + model + ".obj");
+  const PatchSet set = buildPatchSet(mesh);
+  Planned planned{tessellateAt(mesh, set, relative), {}};
+  TessellationOptions options;
+  options.tolerance = relative;
+  options.relativeTolerance = true;
+  planned.layout = layoutAdaptive(set, *set.adaptive, options);
+  EXPECT_EQ(planned.layout.plan.tiles.size(), size_t(planned.result.summary.pieces));
+  return planned;
+}
+
 // Four settled one-cell quadrants become one cell-wise tile (adaptive_plan.h) whose cells are
 // triangulated one by one: every triangle of such a tile lies in one of its cells with its
 // corners on the cell's sides, and the tile's bound is within its ε.
 TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
-  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/car.obj");
-  const PatchSet set = buildPatchSet(mesh);
-  const TessellationResult result = tessellateAt(mesh, set, 1e-4);
-  TessellationOptions options;
-  options.tolerance = 1e-4;
-  options.relativeTolerance = true;
-  const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
-  ASSERT_EQ(layout.plan.tiles.size(), size_t(result.summary.pieces));
+  const Planned planned = planAt("car", 1e-4);
+  const TessellationResult& result = planned.result;
+  const AdaptiveLayout& layout = planned.layout;
   size_t cellwise = 0, checked = 0;
   for (const Tile& tile : layout.plan.tiles) {
     if (!tile.cellwise) continue;
@@ -498,14 +513,9 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
 // (Tile::cellDiagonals): each such cell of a cell-wise tile is split along the diagonal it needs,
 // an edge between its two corners, found among the tile's triangles by their parameters.
 TEST(AdaptiveTessellation, CellwiseTilesKeepEachCellsDiagonal) {
-  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
-  const PatchSet set = buildPatchSet(mesh);
-  const TessellationResult result = tessellateAt(mesh, set, 1e-3);
-  TessellationOptions options;
-  options.tolerance = 1e-3;
-  options.relativeTolerance = true;
-  const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
-  ASSERT_EQ(layout.plan.tiles.size(), size_t(result.summary.pieces));
+  const Planned planned = planAt("bigguy", 1e-3);
+  const TessellationResult& result = planned.result;
+  const AdaptiveLayout& layout = planned.layout;
   // Per tile, its triangles' corners in cell units of the tile.
   std::map<uint32_t, std::vector<std::array<double, 6>>> corners;
   for (size_t t = 0; t < result.mesh.triangleCount(); ++t) {
