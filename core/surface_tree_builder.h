@@ -14,6 +14,7 @@
 
 #include "core/axis_reparameterization.h"
 #include "core/diagonal_reparameterization.h"
+#include "core/flat_pair_bound.h"
 #include "core/surface_tree.h"
 
 namespace tessera::surface_tree_building {
@@ -32,6 +33,9 @@ constexpr double kGradedSlack = 2;
 // How many levels above a leaf its net is bounded against each ancestor's diagonal map; farther
 // up, the node kDiagonalReach + 1 levels below the ancestor stands for it (standForLeaves).
 constexpr int kDiagonalReach = 5;
+// How many levels below a node its descendants are gathered for its flat pair bound (§3d); deeper
+// ones stand in with their corners and pair bounds.
+constexpr int kFlatReach = 3;
 
 // Rounds a bound up to the next float, so that storing it in single precision keeps it a bound.
 inline float roundUp(double value) {
@@ -106,6 +110,8 @@ class TreeBuilder {
   void leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
                             const std::vector<Ancestor>& path);
   void standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path);
+  void gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const;
+  void flattenNodePair(uint32_t index);
   BezierNet leafNet(const SurfaceNode& node) const;
   BezierNet netOrStandIn(const SurfaceNode& node, double& r) const;
 

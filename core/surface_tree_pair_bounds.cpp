@@ -8,6 +8,7 @@
 #include "core/bicubic.h"
 #include "core/diagonal_pair_bound.h"
 #include "core/dyadic.h"
+#include "core/flat_pair_bound.h"
 #include "core/surface_evaluation.h"
 #include "core/surface_tree_builder.h"
 
@@ -179,7 +180,54 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   self.pairBound = roundUp(pair);
   for (int side = 0; side < 4; ++side) self.sideBow[side] = roundUp(bows[side]);
   self.pairDiagonal = kept;
+  flattenNodePair(index);
   standForLeaves(index, level, ix, iy, path);
+}
+
+// §3d over a node of several pieces: its descendants kFlatReach levels down stand in with their
+// corners grown by their (final) pair bounds, and along the node's sides with their corners grown
+// by their bows; leaves above that with their nets (EV bottoms' stand-ins grown by r).
+void TreeBuilder::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const {
+  const SurfaceNode& node = tree_.nodes[index];
+  const uint64_t last = (uint64_t(1) << depth) - 1;
+  const bool on[4] = {iy == 0, ix == last, iy == last, ix == 0};
+  if (!node.isLeaf() && depth < kFlatReach) {
+    for (int q = 0; q < 4; ++q) {
+      gatherFlat(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), gather);
+    }
+    return;
+  }
+  if (!node.isLeaf()) {
+    const std::array<Vec3d, 4>& c = corners_[index];
+    for (int k = 0; k < 4; ++k) {
+      gather.addPoint(c[k], node.pairBound);
+      if (!on[k]) continue;
+      gather.addSidePoint(k, c[k], node.sideBow[k]);
+      gather.addSidePoint(k, c[(k + 1) % 4], node.sideBow[k]);
+    }
+    return;
+  }
+  double r;
+  const BezierNet net = netOrStandIn(node, r);
+  for (const Vec3d& p : net) gather.addPoint(p, r);
+  static constexpr int kSide[4][4] = {{0, 1, 2, 3}, {3, 7, 11, 15}, {15, 14, 13, 12}, {12, 8, 4, 0}};
+  for (int k = 0; k < 4; ++k) {
+    for (int j = 0; j < 4 && on[k]; ++j) gather.addSidePoint(k, net[kSide[k][j]], r);
+  }
+}
+
+void TreeBuilder::flattenNodePair(uint32_t index) {
+  SurfaceNode& node = tree_.nodes[index];
+  if (!(node.pairBound > kDiagonalFloor * floor_)) return;
+  const Vec3d* corners = corners_[index].data();
+  FlatGather gather(corners);
+  if (!gather.valid()) return;
+  gatherFlat(index, 0, 0, 0, gather);
+  PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
+  if (!keepFlatBound(gather.bound(), corners, bounds)) return;
+  node.pairBound = roundUp(bounds.pair);
+  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
+  node.pairDiagonal = bounds.diagonal;
 }
 
 // A node kDiagonalReach + 1 levels below an ancestor stands there for all its leaves in the

@@ -146,5 +146,48 @@ TEST(FlatPairBound, PairsAndSidePointTriangulationsAreWithinTheBoundBothWays) {
               "parameters; worst measured / bound %.2f\n", checked, taken, belowEqualParameters, worstShare);
 }
 
+// What the tree stores for every rook root, one piece or many (its pair bound, side bows and the
+// diagonal they need, §3, §3d): the fan of its corners and three points a side from the corner on
+// that diagonal (which keeps it) is within the pair bound plus the largest bow both ways.
+TEST(FlatPairBound, StoredBoundsHoldForEveryRootsSideTriangulation) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj");
+  const PatchSet set = buildPatchSet(mesh);
+  const testing::LimitSurface surface(mesh);
+  const SurfaceTree& tree = set.adaptive->tree;
+  const double slack = testing::LimitSurface::kRelativeAccuracy * surface.diagonal();
+  int checked = 0, severalPieces = 0;
+  double worstShare = 0;
+  for (const SurfaceRoot& root : tree.roots) {
+    if (root.node == kNoNode) continue;
+    const SurfaceNode& node = tree.nodes[root.node];
+    const double bound = node.pairBound + *std::max_element(node.sideBow, node.sideBow + 4);
+    if (bound > 1e-2 * surface.diagonal()) continue;
+    const int domain = surface.domainOf(root.baseFace, root.subFace);
+    std::vector<Vertex> boundary;
+    static constexpr double kCorner[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+    const int from = node.pairDiagonal == 2 ? 1 : 0;
+    for (int side = 0; side < 4; ++side) {
+      const int k = (from + side) % 4;
+      for (int step = 0; step < 4; ++step) {
+        const double u = kCorner[k][0] + (kCorner[k + 1][0] - kCorner[k][0]) * step / 4;
+        const double v = kCorner[k][1] + (kCorner[k + 1][1] - kCorner[k][1]) * step / 4;
+        Vertex vertex{u, v, {}};
+        surface.evaluate(domain, u, v, vertex.p);
+        boundary.push_back(vertex);
+      }
+    }
+    std::vector<Triangle> fan;
+    for (size_t k = 1; k + 1 < boundary.size(); ++k) fan.push_back({boundary[0], boundary[k], boundary[k + 1]});
+    const double measured = twoSidedDistance(surface, domain, fan);
+    EXPECT_LE(measured, bound + slack) << "face " << root.baseFace << " sub-face " << root.subFace;
+    worstShare = std::max(worstShare, measured / bound);
+    ++checked;
+    severalPieces += !node.isLeaf();
+  }
+  EXPECT_GT(severalPieces, 100);
+  std::printf("rook: %d roots checked (%d of several pieces); worst measured / bound %.2f\n", checked, severalPieces,
+              worstShare);
+}
+
 }  // namespace
 }  // namespace tessera
