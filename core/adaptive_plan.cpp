@@ -107,6 +107,8 @@ bool insideCornerCell(const NodeSquare& n, const NodeSquare& t, int c, int ru, i
   return inU && inV;
 }
 
+uint8_t sidesOnSquare(const Tile& part, const Tile& square, uint8_t sides);
+
 class Planner {
  public:
   Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
@@ -502,20 +504,22 @@ void Planner::planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::ve
   std::vector<Tile> parts;
   plan(c, gridFor(c), parts);
   for (const Tile& part : parts) {
-    // Its sides on the square's sides that got points.
-    uint8_t onSides = 0;
-    for (int k = 0; k < 4; ++k) {
-      const int d = part.level - tile.level;
-      const uint64_t x = part.ix - (tile.ix << d), y = part.iy - (tile.iy << d), last = (uint64_t(1) << d) - 1;
-      const bool on = k == 0 ? y == 0 : k == 1 ? x == last : k == 2 ? y == last : x == 0;
-      onSides |= uint8_t((on && (sides >> k & 1)) << k);
-    }
-    if (part.pendingPair && part.boundWithPoints(onSides) > part.tolerance) {
+    if (part.pendingPair && part.boundWithPoints(sidesOnSquare(part, tile, sides)) > part.tolerance) {
       planSquare(root, part, 0, out);
     } else {
       out.push_back(part);
     }
   }
+}
+
+// Which of `sides` (bit k: side k of tile `square`) tile `part`, inside it, lies on.
+uint8_t sidesOnSquare(const Tile& part, const Tile& square, uint8_t sides) {
+  const int d = part.level - square.level;
+  const uint64_t x = part.ix - (square.ix << d), y = part.iy - (square.iy << d), last = (uint64_t(1) << d) - 1;
+  const bool on[4] = {y == 0, x == last, y == last, x == 0};
+  uint8_t out = 0;
+  for (int k = 0; k < 4; ++k) out |= uint8_t((on[k] && (sides >> k & 1)) << k);
+  return out;
 }
 
 }  // namespace
