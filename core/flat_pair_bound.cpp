@@ -39,7 +39,8 @@ FlatGather::FlatGather(const Vec3d corners[4]) : low_(INFINITY), high_(-INFINITY
   orientation_ = cross2(minus(quad_[1], quad_[0]), minus(quad_[2], quad_[1]));
   valid_ = true;
   for (int k = 0; k < 4; ++k) {
-    const Point2 a = minus(quad_[(k + 1) % 4], quad_[k]), b = minus(quad_[(k + 2) % 4], quad_[(k + 1) % 4]);
+    const Point2 a = minus(quad_[(k + 1) % 4], quad_[k]),
+                 b = minus(quad_[(k + 2) % 4], quad_[(k + 1) % 4]);
     valid_ = valid_ && cross2(a, b) * orientation_ > 0;
   }
 }
@@ -49,7 +50,8 @@ double FlatGather::quadDistance(Point2 p) const {
   bool inside = true;
   double nearest = INFINITY;
   for (int k = 0; k < 4; ++k) {
-    inside = inside && cross2(minus(quad_[(k + 1) % 4], quad_[k]), minus(p, quad_[k])) * orientation_ >= 0;
+    inside = inside &&
+             cross2(minus(quad_[(k + 1) % 4], quad_[k]), minus(p, quad_[k])) * orientation_ >= 0;
     nearest = std::min(nearest, segmentDistance(p, quad_[k], quad_[(k + 1) % 4]));
   }
   return inside ? 0.0 : nearest;
@@ -63,7 +65,8 @@ void FlatGather::addPoint(const Vec3d& p, double radius) {
 }
 
 void FlatGather::addSidePoint(int side, const Vec3d& p, double radius) {
-  reach_ = std::max(reach_, segmentDistance(project(p), quad_[side], quad_[(side + 1) % 4]) + radius);
+  reach_ =
+      std::max(reach_, segmentDistance(project(p), quad_[side], quad_[(side + 1) % 4]) + radius);
 }
 
 // §3d: the piece's projection covers every point of the quad Q farther than G (reach) from Q's
@@ -71,15 +74,18 @@ void FlatGather::addSidePoint(int side, const Vec3d& p, double radius) {
 // curve's projection; D (outside) bounds the surface's side; H (high − low) every height gap.
 FlatPairBound FlatGather::bound() const {
   const double height = high_ - low_;
-  return {std::hypot(height, std::max(outside_, 2 * reach_)), std::hypot(height, outside_ + 2 * reach_)};
+  return {std::hypot(height, std::max(outside_, 2 * reach_)),
+          std::hypot(height, outside_ + 2 * reach_)};
 }
 
 std::optional<FlatPairBound> flatPairBound(const BezierNet& net) {
-  const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
+  const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]],
+                            net[kCornerIndex[3]]};
   FlatGather gather(corners);
   if (!gather.valid()) return std::nullopt;
   for (const Vec3d& p : net) gather.addPoint(p, 0);
-  static constexpr int kSide[4][4] = {{0, 1, 2, 3}, {3, 7, 11, 15}, {15, 14, 13, 12}, {12, 8, 4, 0}};
+  static constexpr int kSide[4][4] = {
+      {0, 1, 2, 3}, {3, 7, 11, 15}, {15, 14, 13, 12}, {12, 8, 4, 0}};
   for (int side = 0; side < 4; ++side) {
     for (int j = 1; j < 3; ++j) gather.addSidePoint(side, net[kSide[side][j]], 0);
   }
@@ -93,7 +99,8 @@ bool keepFlatBound(const FlatPairBound& flat, const Vec3d corners[4], PairBounds
   if (!(flat.pair * (1 + 1e-9) < bounds.pair)) return false;
   const double anyTriangulation = flat.anyTriangulation * (1 + 1e-9);
   const double added = anyTriangulation - flat.pair;
-  if (bounds.diagonal == 0 && anyTriangulation > bounds.pair + *std::min_element(bounds.bows.begin(), bounds.bows.end())) {
+  if (bounds.diagonal == 0 &&
+      anyTriangulation > bounds.pair + *std::min_element(bounds.bows.begin(), bounds.bows.end())) {
     const Vec3d first = corners[2] - corners[0], second = corners[3] - corners[1];
     bounds.diagonal = dot(second, second) < dot(first, first) ? 2 : 1;
   }

@@ -2,17 +2,18 @@
 // roots that are one exact piece, the pair through a root's corners (either diagonal) and a
 // triangulation with points on every side are within the bound both ways, measured: surface
 // samples against the triangles (closest points), triangle samples projected onto the surface.
+#include "core/flat_pair_bound.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <vector>
 
+#include "core/adaptive_surface.h"
 #include "core/bicubic.h"
-#include "core/flat_pair_bound.h"
 #include "core/obj_reader.h"
 #include "core/patch_set.h"
-#include "core/adaptive_surface.h"
 #include "core/surface_evaluation.h"
 #include "tests/support/limit_projection.h"
 #include "tests/support/models.h"
@@ -28,7 +29,8 @@ struct Vertex {
 using Triangle = std::array<Vertex, 3>;
 
 // The two-sided distance between one root's limit surface and triangles whose vertices lie on it.
-double twoSidedDistance(const testing::LimitSurface& surface, int domain, const std::vector<Triangle>& triangles) {
+double twoSidedDistance(const testing::LimitSurface& surface, int domain,
+                        const std::vector<Triangle>& triangles) {
   constexpr int kSamples = 16;
   double worst = 0;
   for (int i = 0; i <= kSamples; ++i) {
@@ -37,7 +39,8 @@ double twoSidedDistance(const testing::LimitSurface& surface, int domain, const 
       surface.evaluate(domain, double(i) / kSamples, double(j) / kSamples, f);
       double nearest = INFINITY;
       for (const Triangle& t : triangles) {
-        nearest = std::min(nearest, length(f - testing::closestPointOnTriangle(f, t[0].p, t[1].p, t[2].p)));
+        nearest = std::min(nearest,
+                           length(f - testing::closestPointOnTriangle(f, t[0].p, t[1].p, t[2].p)));
       }
       worst = std::max(worst, nearest);
     }
@@ -48,9 +51,12 @@ double twoSidedDistance(const testing::LimitSurface& surface, int domain, const 
       for (int b = 0; a + b <= kSteps; ++b) {
         const double wa = double(a) / kSteps, wb = double(b) / kSteps, wc = 1 - wa - wb;
         const Vec3d p = t[0].p * wa + t[1].p * wb + t[2].p * wc;
-        const double u = t[0].u * wa + t[1].u * wb + t[2].u * wc, v = t[0].v * wa + t[1].v * wb + t[2].v * wc;
+        const double u = t[0].u * wa + t[1].u * wb + t[2].u * wc,
+                     v = t[0].v * wa + t[1].v * wb + t[2].v * wc;
         // An upper bound of the distance (a local minimum), so this cannot pass by luck.
-        worst = std::max(worst, testing::projectInDomain(surface, p, domain, u, v, 1e-9 * surface.diagonal()).distance);
+        worst = std::max(
+            worst,
+            testing::projectInDomain(surface, p, domain, u, v, 1e-9 * surface.diagonal()).distance);
       }
     }
   }
@@ -61,11 +67,55 @@ double twoSidedDistance(const testing::LimitSurface& surface, int domain, const 
 // plane: its inner control points moved by −δ in y, so the side curve reaches 3δ/4 below the
 // chord at u = ½ (the Bernstein weights 3/8 + 3/8). The pair misses that strip, so the distance
 // is in the plane alone: the bound must count it (the height alone is 0).
+// The rook, its patch set and OpenSubdiv's limit surface of it, built once for the tests below.
+struct Rook {
+  Rook()
+      : mesh(readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj")),
+        set(buildPatchSet(mesh)),
+        surface(mesh),
+        slack(testing::LimitSurface::kRelativeAccuracy * surface.diagonal()) {}
+  ControlMesh mesh;
+  PatchSet set;
+  testing::LimitSurface surface;
+  double slack;
+};
+
+const Rook& rook() {
+  static const Rook instance;
+  return instance;
+}
+
+Vertex vertexAt(const testing::LimitSurface& surface, int domain, double u, double v) {
+  Vertex out{u, v, {}};
+  surface.evaluate(domain, u, v, out.p);
+  return out;
+}
+
+// A root's corners and three points a side, in order around it from corner `from`, fanned from
+// that corner: a triangulation of side points that keeps the diagonal through it.
+std::vector<Triangle> sideFan(const testing::LimitSurface& surface, int domain, int from) {
+  static constexpr double kCorner[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
+  std::vector<Vertex> boundary;
+  for (int side = 0; side < 4; ++side) {
+    const int k = (from + side) % 4;
+    for (int step = 0; step < 4; ++step) {
+      boundary.push_back(vertexAt(surface, domain,
+                                  kCorner[k][0] + (kCorner[k + 1][0] - kCorner[k][0]) * step / 4,
+                                  kCorner[k][1] + (kCorner[k + 1][1] - kCorner[k][1]) * step / 4));
+    }
+  }
+  std::vector<Triangle> fan;
+  for (size_t k = 1; k + 1 < boundary.size(); ++k)
+    fan.push_back({boundary[0], boundary[k], boundary[k + 1]});
+  return fan;
+}
+
 TEST(FlatPairBound, CountsWhatTheSidesReachOutsideThePair) {
   constexpr double kDelta = 0.01;
   BezierNet net;
   for (int j = 0; j < 4; ++j) {
-    for (int i = 0; i < 4; ++i) net[i + 4 * j] = Vec3d(i / 3.0, j / 3.0 - (j == 0 && (i == 1 || i == 2) ? kDelta : 0), 0);
+    for (int i = 0; i < 4; ++i)
+      net[i + 4 * j] = Vec3d(i / 3.0, j / 3.0 - (j == 0 && (i == 1 || i == 2) ? kDelta : 0), 0);
   }
   const std::optional<FlatPairBound> flat = flatPairBound(net);
   ASSERT_TRUE(flat);
@@ -87,46 +137,29 @@ TEST(FlatPairBound, RefusesANonConvexQuad) {
 }
 
 TEST(FlatPairBound, PairsAndSidePointTriangulationsAreWithinTheBoundBothWays) {
-  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj");
-  const PatchSet set = buildPatchSet(mesh);
-  const testing::LimitSurface surface(mesh);
-  const SurfaceTree& tree = set.adaptive->tree;
-  const double slack = testing::LimitSurface::kRelativeAccuracy * surface.diagonal();
+  const testing::LimitSurface& surface = rook().surface;
+  const SurfaceTree& tree = rook().set.adaptive->tree;
+  const double slack = rook().slack;
   int checked = 0, taken = 0, belowEqualParameters = 0;
   double worstShare = 0;
   for (const SurfaceRoot& root : tree.roots) {
     if (root.node == kNoNode) continue;
     const SurfaceNode& node = tree.nodes[root.node];
     if (node.kind != NodeKind::kRegularLeaf && node.kind != NodeKind::kFasLeaf) continue;
-    const std::optional<FlatPairBound> flat = flatPairBound(pieceNet(tree, set, root.node));
+    const std::optional<FlatPairBound> flat = flatPairBound(pieceNet(tree, rook().set, root.node));
     // Only bounds that could serve a tolerance (below 1 % of the diagonal).
     if (!flat || flat->anyTriangulation > 1e-2 * surface.diagonal()) continue;
     const int domain = surface.domainOf(root.baseFace, root.subFace);
-    auto vertex = [&](double u, double v) {
-      Vertex out{u, v, {}};
-      surface.evaluate(domain, u, v, out.p);
-      return out;
-    };
-    const Vertex c[4] = {vertex(0, 0), vertex(1, 0), vertex(1, 1), vertex(0, 1)};
+    const Vertex c[4] = {vertexAt(surface, domain, 0, 0), vertexAt(surface, domain, 1, 0),
+                         vertexAt(surface, domain, 1, 1), vertexAt(surface, domain, 0, 1)};
     const std::vector<Triangle> pairs[2] = {{{c[0], c[1], c[2]}, {c[0], c[2], c[3]}},
                                             {{c[0], c[1], c[3]}, {c[1], c[2], c[3]}}};
-    // Corners and three points a side, in order around the square, fanned from corner 0.
-    std::vector<Vertex> boundary;
-    for (int side = 0; side < 4; ++side) {
-      const Vertex& from = c[side];
-      const Vertex& to = c[(side + 1) % 4];
-      for (int k = 0; k < 4; ++k) {
-        boundary.push_back(vertex(from.u + (to.u - from.u) * k / 4, from.v + (to.v - from.v) * k / 4));
-      }
-    }
-    std::vector<Triangle> fan;
-    for (size_t k = 1; k + 1 < boundary.size(); ++k) fan.push_back({boundary[0], boundary[k], boundary[k + 1]});
     for (const auto& pair : pairs) {
       const double measured = twoSidedDistance(surface, domain, pair);
       EXPECT_LE(measured, flat->pair + slack) << "face " << root.baseFace;
       worstShare = std::max(worstShare, measured / flat->pair);
     }
-    const double measured = twoSidedDistance(surface, domain, fan);
+    const double measured = twoSidedDistance(surface, domain, sideFan(surface, domain, 0));
     EXPECT_LE(measured, flat->anyTriangulation + slack) << "face " << root.baseFace;
     worstShare = std::max(worstShare, measured / flat->anyTriangulation);
     ++checked;
@@ -142,19 +175,20 @@ TEST(FlatPairBound, PairsAndSidePointTriangulationsAreWithinTheBoundBothWays) {
   EXPECT_GT(checked, 0);
   EXPECT_GT(taken, 0);
   EXPECT_GT(belowEqualParameters, 0);
-  std::printf("rook: %d one-piece roots checked, %d keep the flat bound, %d of them below the distance at equal "
-              "parameters; worst measured / bound %.2f\n", checked, taken, belowEqualParameters, worstShare);
+  std::printf(
+      "rook: %d one-piece roots checked, %d keep the flat bound, %d of them below the distance at "
+      "equal "
+      "parameters; worst measured / bound %.2f\n",
+      checked, taken, belowEqualParameters, worstShare);
 }
 
 // What the tree stores for every rook root, one piece or many (its pair bound, side bows and the
 // diagonal they need, §3, §3d): the fan of its corners and three points a side from the corner on
 // that diagonal (which keeps it) is within the pair bound plus the largest bow both ways.
 TEST(FlatPairBound, StoredBoundsHoldForEveryRootsSideTriangulation) {
-  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj");
-  const PatchSet set = buildPatchSet(mesh);
-  const testing::LimitSurface surface(mesh);
-  const SurfaceTree& tree = set.adaptive->tree;
-  const double slack = testing::LimitSurface::kRelativeAccuracy * surface.diagonal();
+  const testing::LimitSurface& surface = rook().surface;
+  const SurfaceTree& tree = rook().set.adaptive->tree;
+  const double slack = rook().slack;
   int checked = 0, severalPieces = 0;
   double worstShare = 0;
   for (const SurfaceRoot& root : tree.roots) {
@@ -163,30 +197,16 @@ TEST(FlatPairBound, StoredBoundsHoldForEveryRootsSideTriangulation) {
     const double bound = node.pairBound + *std::max_element(node.sideBow, node.sideBow + 4);
     if (bound > 1e-2 * surface.diagonal()) continue;
     const int domain = surface.domainOf(root.baseFace, root.subFace);
-    std::vector<Vertex> boundary;
-    static constexpr double kCorner[5][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}};
-    const int from = node.pairDiagonal == 2 ? 1 : 0;
-    for (int side = 0; side < 4; ++side) {
-      const int k = (from + side) % 4;
-      for (int step = 0; step < 4; ++step) {
-        const double u = kCorner[k][0] + (kCorner[k + 1][0] - kCorner[k][0]) * step / 4;
-        const double v = kCorner[k][1] + (kCorner[k + 1][1] - kCorner[k][1]) * step / 4;
-        Vertex vertex{u, v, {}};
-        surface.evaluate(domain, u, v, vertex.p);
-        boundary.push_back(vertex);
-      }
-    }
-    std::vector<Triangle> fan;
-    for (size_t k = 1; k + 1 < boundary.size(); ++k) fan.push_back({boundary[0], boundary[k], boundary[k + 1]});
-    const double measured = twoSidedDistance(surface, domain, fan);
+    const double measured =
+        twoSidedDistance(surface, domain, sideFan(surface, domain, node.pairDiagonal == 2 ? 1 : 0));
     EXPECT_LE(measured, bound + slack) << "face " << root.baseFace << " sub-face " << root.subFace;
     worstShare = std::max(worstShare, measured / bound);
     ++checked;
     severalPieces += !node.isLeaf();
   }
   EXPECT_GT(severalPieces, 100);
-  std::printf("rook: %d roots checked (%d of several pieces); worst measured / bound %.2f\n", checked, severalPieces,
-              worstShare);
+  std::printf("rook: %d roots checked (%d of several pieces); worst measured / bound %.2f\n",
+              checked, severalPieces, worstShare);
 }
 
 }  // namespace
