@@ -98,9 +98,8 @@ double splitNetDistance(const BezierNet& a, const BezierNet& b) {
 }
 
 double sideChordDistance(const BezierNet& net, int side, const Vec3d& from, const Vec3d& to) {
-  static constexpr int kSide[4][4] = {{0, 1, 2, 3}, {3, 7, 11, 15}, {12, 13, 14, 15}, {0, 4, 8, 12}};
   Vec3d difference[4];
-  for (int i = 0; i < 4; ++i) difference[i] = net[kSide[side][i]] - (from * (1 - i / 3.0) + to * (i / 3.0));
+  for (int i = 0; i < 4; ++i) difference[i] = net[kSideIndex[side][i]] - (from * (1 - i / 3.0) + to * (i / 3.0));
   double d = 0;
   for (int half = 0; half < 2; ++half) {
     Vec3d part[4];

@@ -138,6 +138,8 @@ inline double netDistance(const BezierNet& a, const BezierNet& b) {
 
 // Corners of a square: 0 = (0,0), 1 = (1,0), 2 = (1,1), 3 = (0,1); their net indices.
 inline constexpr int kCornerIndex[4] = {0, 3, 15, 12};
+// The net indices along side k (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0), parameter increasing.
+inline constexpr int kSideIndex[4][4] = {{0, 1, 2, 3}, {3, 7, 11, 15}, {12, 13, 14, 15}, {0, 4, 8, 12}};
 
 // The bilinear interpolant of four corner values (points or scalars) at (x, y) of their square.
 template <class T>

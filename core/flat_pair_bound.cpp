@@ -78,17 +78,20 @@ FlatPairBound FlatGather::bound() const {
           std::hypot(height, outside_ + 2 * reach_)};
 }
 
+void FlatGather::addNet(const BezierNet& net, double radius, uint8_t sides) {
+  for (const Vec3d& p : net) addPoint(p, radius);
+  for (int k = 0; k < 4; ++k) {
+    if (!(sides >> k & 1)) continue;
+    for (int index : kSideIndex[k]) addSidePoint(k, net[index], radius);
+  }
+}
+
 std::optional<FlatPairBound> flatPairBound(const BezierNet& net) {
   const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]],
                             net[kCornerIndex[3]]};
   FlatGather gather(corners);
   if (!gather.valid()) return std::nullopt;
-  for (const Vec3d& p : net) gather.addPoint(p, 0);
-  static constexpr int kSide[4][4] = {
-      {0, 1, 2, 3}, {3, 7, 11, 15}, {15, 14, 13, 12}, {12, 8, 4, 0}};
-  for (int side = 0; side < 4; ++side) {
-    for (int j = 1; j < 3; ++j) gather.addSidePoint(side, net[kSide[side][j]], 0);
-  }
+  gather.addNet(net, 0, 0xF);
   return gather.bound();
 }
 

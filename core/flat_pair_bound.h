@@ -4,6 +4,7 @@
 // §3c follows, while the surface lies within a small fraction of ε of one plane.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "core/bezier_net.h"
@@ -31,6 +32,9 @@ class FlatGather {
   void addPoint(const Vec3d& p, double radius);
   // Side k's curve lies in the hull of such points, each grown by its radius.
   void addSidePoint(int side, const Vec3d& p, double radius);
+  // A bicubic piece within `radius` of the surface it stands for: its net for the surface, and
+  // for each side in `sides` (bit k: the piece's side k lies on side k) that side's four points.
+  void addNet(const BezierNet& net, double radius, uint8_t sides);
   FlatPairBound bound() const;
 
  private:

@@ -327,15 +327,19 @@ void TreeBuilder::gradeLeafPair(SurfaceNode& node, const BezierNet& net) const {
   node.pairDiagonal = graded->diagonal;
 }
 
+void keepFlatPair(SurfaceNode& node, const FlatPairBound& flat, const Vec3d corners[4]) {
+  PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
+  if (!keepFlatBound(flat, corners, bounds)) return;
+  node.pairBound = roundUp(bounds.pair);
+  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
+  node.pairDiagonal = bounds.diagonal;
+}
+
 // A nearly flat piece's pair by projection onto one plane (§3d), kept where it is smaller.
 void TreeBuilder::flattenLeafPair(SurfaceNode& node, const BezierNet& net) const {
   const std::optional<FlatPairBound> flat = flatPairBound(net);
   const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
-  PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
-  if (!flat || !keepFlatBound(*flat, corners, bounds)) return;
-  node.pairBound = roundUp(bounds.pair);
-  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
-  node.pairDiagonal = bounds.diagonal;
+  if (flat) keepFlatPair(node, *flat, corners);
 }
 
 void TreeBuilder::tightenLeafPair(SurfaceNode& node, const BezierNet& net) const {

@@ -37,6 +37,10 @@ constexpr int kDiagonalReach = 5;
 // ones stand in with their corners and pair bounds.
 constexpr int kFlatReach = 3;
 
+// Keeps a flat bound (docs/ADAPTIVE.md §3d) where it beats the node's pair bound so far, with the
+// bows and diagonal that then hold.
+void keepFlatPair(SurfaceNode& node, const FlatPairBound& flat, const Vec3d corners[4]);
+
 // Rounds a bound up to the next float, so that storing it in single precision keeps it a bound.
 inline float roundUp(double value) {
   float f = float(value);

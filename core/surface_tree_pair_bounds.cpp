@@ -209,11 +209,7 @@ void TreeBuilder::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy
   }
   double r;
   const BezierNet net = netOrStandIn(node, r);
-  for (const Vec3d& p : net) gather.addPoint(p, r);
-  static constexpr int kSide[4][4] = {{0, 1, 2, 3}, {3, 7, 11, 15}, {15, 14, 13, 12}, {12, 8, 4, 0}};
-  for (int k = 0; k < 4; ++k) {
-    for (int j = 0; j < 4 && on[k]; ++j) gather.addSidePoint(k, net[kSide[k][j]], r);
-  }
+  gather.addNet(net, r, uint8_t(on[0] | on[1] << 1 | on[2] << 2 | on[3] << 3));
 }
 
 void TreeBuilder::flattenNodePair(uint32_t index) {
@@ -223,11 +219,7 @@ void TreeBuilder::flattenNodePair(uint32_t index) {
   FlatGather gather(corners);
   if (!gather.valid()) return;
   gatherFlat(index, 0, 0, 0, gather);
-  PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
-  if (!keepFlatBound(gather.bound(), corners, bounds)) return;
-  node.pairBound = roundUp(bounds.pair);
-  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
-  node.pairDiagonal = bounds.diagonal;
+  keepFlatPair(node, gather.bound(), corners);
 }
 
 // A node kDiagonalReach + 1 levels below an ancestor stands there for all its leaves in the
