@@ -10,7 +10,6 @@
 #include <map>
 #include <mutex>
 
-#include "core/bicubic.h"
 #include "core/tessellation_options.h"
 #include "core/ring_refinement.h"
 #include "core/uniform_levels.h"
@@ -40,12 +39,10 @@ LevelWeights makeLevelWeights(int level) {
     for (auto& w : weights) w.assign(size_t(std::max(8, (side + 7) / 8 * 8)), 0.0f);
   }
   for (int i = 0; i < side; ++i) {
-    double bspline[4], bezier[4], unused[4];
-    bsplineBasis(double(i) / level, bspline, unused);
-    bernsteinBasis(double(i) / level, bezier, unused);
-    for (int k = 0; k < 4; ++k) {
-      table.basis[int(NetBasis::kBSpline)][k][i] = float(bspline[k]);
-      table.basis[int(NetBasis::kBezier)][k][i] = float(bezier[k]);
+    for (NetBasis basis : {NetBasis::kBSpline, NetBasis::kBezier}) {
+      float w[4];
+      gridWeights(basis, i, level, w);
+      for (int k = 0; k < 4; ++k) table.basis[int(basis)][k][i] = w[k];
     }
   }
   if (side > 2 && side < 8) {
@@ -70,17 +67,16 @@ const LevelWeights& levelWeights(int level) {
   return entry->second;
 }
 
-// The reference: four column curves c_k = Σ_r B_r(t) b[r][k] per row, then Σ_k B_k(s) c_k.
+// The reference, core/grid_sample.h's order: four column curves per row, then the row's samples.
 void evaluateScalar(const Vec3* b, int n, const BasisWeights& w, Vec3* out) {
   for (int j = 0; j <= n; ++j) {
-    Vec3 column[4];
-    for (int k = 0; k < 4; ++k) {
-      column[k] = b[k] * w[0][j] + b[4 + k] * w[1][j] + b[8 + k] * w[2][j] + b[12 + k] * w[3][j];
-    }
+    const float wt[4] = {w[0][j], w[1][j], w[2][j], w[3][j]};
+    const Vec3 column[4] = {gridColumn(b, 0, wt), gridColumn(b, 1, wt), gridColumn(b, 2, wt),
+                            gridColumn(b, 3, wt)};
     Vec3* row = out + size_t(j) * (n + 1);
     for (int i = 0; i <= n; ++i) {
-      row[i] =
-          column[0] * w[0][i] + column[1] * w[1][i] + column[2] * w[2][i] + column[3] * w[3][i];
+      const float ws[4] = {w[0][i], w[1][i], w[2][i], w[3][i]};
+      row[i] = gridSampleFromColumns(column, ws);
     }
   }
 }

@@ -11,11 +11,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/grid_sample.h"
 #include "core/patch_set.h"
 
 namespace tessera {
-
-enum class NetBasis : uint8_t { kBSpline, kBezier };
 
 struct GridPiece {
   uint16_t level = 1;  // N: an (N+1)×(N+1) grid

@@ -5,44 +5,20 @@
 #include <cuda_runtime_api.h>
 
 #include <climits>
-#include <stdexcept>
 #include <string>
 
 #include "core/error.h"
+#include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/fas_launch.h"
 
 namespace tessera::cuda {
 namespace {
 
-void check(cudaError_t status, const char* what) {
-  if (status != cudaSuccess) {
-    throw std::runtime_error(std::string("CUDA FAS: ") + what + " failed: " +
-                             cudaGetErrorName(status) + " (" + cudaGetErrorString(status) + ")");
-  }
-}
-
-struct DeviceFree {
-  void operator()(void* pointer) const { cudaFree(pointer); }
-};
-template <class T>
-using DeviceArray = std::unique_ptr<T, DeviceFree>;
+void check(cudaError_t status, const char* what) { detail::checkCuda(status, "CUDA FAS", what); }
 
 template <class T>
-DeviceArray<T> allocate(size_t count, const char* what) {
-  void* pointer = nullptr;
-  if (count > 0) check(cudaMalloc(&pointer, count * sizeof(T)), what);
-  return DeviceArray<T>(static_cast<T*>(pointer));
-}
-
-void requireDevice() {
-  int devices = 0;
-  cudaError_t status = cudaGetDeviceCount(&devices);
-  if (status != cudaSuccess) {
-    cudaGetLastError();
-    throwUnsupported(std::string("no CUDA device: ") + cudaGetErrorString(status) + " (" +
-                     cudaGetErrorName(status) + ")");
-  }
-  if (devices == 0) throwUnsupported("no CUDA device: cudaGetDeviceCount found 0 devices");
+detail::DeviceArray<T> allocate(size_t count, const char* what) {
+  return detail::allocateDevice<T>(count, "CUDA FAS", what);
 }
 
 }  // namespace
@@ -90,8 +66,8 @@ struct CudaFasBatch::Impl {
   RingRules deviceRules;  // sharpSpokes points to device memory (or is null)
   int count = 0;
   int blocks = 1;
-  DeviceArray<float> rings, output, scratch;
-  DeviceArray<uint8_t> sharpSpokes;
+  detail::DeviceArray<float> rings, output, scratch;
+  detail::DeviceArray<uint8_t> sharpSpokes;
   cudaStream_t stream = nullptr;
   cudaEvent_t start = nullptr, stop = nullptr;
 
@@ -106,7 +82,7 @@ struct CudaFasBatch::Impl {
 CudaFasBatch::CudaFasBatch(const RingRules& rules, int depth, int count, const float* hostRings)
     : impl_(std::make_unique<Impl>()) {
   validateCudaFasInput(rules, depth, count, hostRings);
-  requireDevice();
+  detail::requireCudaDevice();
   Impl& s = *impl_;
   s.plan = planWarpFas(rules.shape, depth);
   s.count = count;

@@ -5,9 +5,7 @@
 //
 // Built with --fmad=false (see CMakeLists.txt): with no contraction, the same operations in the
 // same order round as core/fas.cpp (-ffp-contract=off) does, so results match the CPU bit for bit.
-#include <stdexcept>
-#include <string>
-
+#include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/fas_launch.h"
 
 namespace tessera::cuda::detail {
@@ -48,12 +46,7 @@ __global__ void __launch_bounds__(kMaxWarpsPerBlock* kWarpSize, kSharedBuffers ?
   }
 }
 
-void check(cudaError_t status, const char* what) {
-  if (status != cudaSuccess) {
-    throw std::runtime_error(std::string("CUDA FAS: ") + what + " failed: " +
-                             cudaGetErrorName(status) + " (" + cudaGetErrorString(status) + ")");
-  }
-}
+void check(cudaError_t status, const char* what) { checkCuda(status, "CUDA FAS", what); }
 
 template <bool kSharedBuffers>
 int residentBlocksOf(const WarpFasPlan& plan) {
