@@ -1,41 +1,42 @@
 #!/usr/bin/env bash
-# Builds the CUDA backend here (build-cuda/) and stages what a GPU machine needs to run its tests
-# and Table 1 benchmark into build-cuda/device-run/: the two programs and the shared libraries a
-# bare CUDA image lacks (TBB; the CUDA runtime too, so the version matches the build). The GPU
-# machine cannot build Tessera itself (no OpenSubdiv, TBB or GoogleTest there); it only runs this.
-# Then, on the GPU machine, from the repository root (build-cuda/device-run carried along):
-#   cd build-cuda/device-run && ./run.sh
+# Builds here (in build/, the tree tools/build.sh configures) and stages into build/device-run/
+# everything a lent GPU machine needs to run the GPU checks: the CUDA tests and benchmarks
+# (Table 1: FAS; Table 2: the uniform grid), the Vulkan renderer's tests and benchmarks, the shared
+# libraries a bare CUDA image lacks (found with ldd; glibc, libstdc++ and the driver stay the
+# machine's own), the Vulkan loader and glvnd packages (docs: ../.library/device/README.md), the
+# Khronos validation layer, and the shared meshes the tests read. The GPU machine cannot build Tessera
+# (no OpenSubdiv, TBB, GoogleTest or Vulkan headers there); it only runs this.
+# Then, on the GPU machine, from the repository root (carry: build/device-run):
+#   build/device-run/run.sh
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-build="$root/build-cuda"
-cmake -S "$root" -B "$build" -G Ninja -DTESSERA_BUILD_SERVER=OFF -DTESSERA_BUILD_VULKAN=OFF \
-  -DTESSERA_BUILD_BENCH=OFF >/dev/null
-cmake --build "$build" -j"$(nproc)" --target tessera-cuda-tests tessera-cuda-bench
+build="$root/build"
+[ -f "$build/CMakeCache.txt" ] || cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
+programs=(tests/cuda/tessera-cuda-tests gpu/cuda/tessera-cuda-bench gpu/cuda/tessera-cuda-table2
+          tests/vulkan/tessera-render-tests tests/render_engine/tessera-render-engine-tests
+          gpu/vulkan/tessera-render-bench gpu/render_engine/tessera-frame-bench)
+targets=()
+for program in "${programs[@]}"; do targets+=("$(basename "$program")"); done
+cmake --build "$build" -j"$(nproc)" --target "${targets[@]}"
 
 stage="$build/device-run"
 rm -rf "$stage"
-mkdir -p "$stage"
-cp "$build/tests/cuda/tessera-cuda-tests" "$build/gpu/cuda/tessera-cuda-bench" "$stage/"
-for program in tessera-cuda-tests tessera-cuda-bench; do
-  ldd "$stage/$program" | awk '/libtbb|libcudart/ {print $3}' | xargs -r cp -L -t "$stage/"
+mkdir -p "$stage/lib" "$stage/models" "$stage/layers" "$stage/gl"
+for program in "${programs[@]}"; do
+  cp "$build/$program" "$stage/"
+  ldd "$build/$program" | awk '$3 ~ /^\// {print $3}' |
+    { grep -Ev '/(libc|libm|libdl|librt|libpthread|libstdc\+\+|libgcc_s|libvulkan|libcuda)\.so' || true; } |
+    xargs -r cp -L -t "$stage/lib/"
 done
-cat >"$stage/run.sh" <<'RUN'
-#!/usr/bin/env bash
-# The GPU-only checks of the CUDA backend, in order; output is also saved to $OUT when set.
-set -uo pipefail
-cd "$(dirname "$0")"
-export LD_LIBRARY_PATH="$PWD${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-log="${OUT:-.}"
-nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv 2>&1 | tee "$log/gpu.txt"
-./tessera-cuda-tests 2>&1 | tee "$log/tests.txt"
-if command -v compute-sanitizer >/dev/null; then
-  for tool in memcheck racecheck synccheck; do
-    compute-sanitizer --tool "$tool" --error-exitcode 1 ./tessera-cuda-tests \
-      --gtest_filter='CudaFas.MatchesCpuForCrease*:CudaFas.GlobalScratch*:CudaFas.SmoothBatch*' \
-      2>&1 | tail -n 20 | tee "$log/sanitizer-$tool.txt"
-  done
-fi
-./tessera-cuda-bench 2>&1 | tee "$log/table1.txt"
-RUN
-chmod +x "$stage/run.sh"
+cp "$root"/../shared/models/{bigguy,monsterfrog,armorguy,t-rex,car}.obj "$stage/models/"
+cp -r "$root/../shared/models/opensubdiv-shapes" "$stage/models/"
+cp /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json "$stage/layers/"
+cp -L /usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so "$stage/lib/"
+# The loader and glvnd, as amd64 Debian packages, unpacked into / there.
+apt_options=(-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 -oDir::State::Lists=/tmp/amd64)
+mkdir -p /tmp/amd64/partial
+[ -n "$(ls /tmp/amd64/*Packages* 2>/dev/null)" ] || apt-get "${apt_options[@]}" update >/dev/null
+(cd "$stage/gl" && apt-get "${apt_options[@]}" download libvulkan1 libegl1 libglvnd0 libopengl0 \
+  libgl1 libglx0 libgles2 >/dev/null)
+cp "$root/gpu/cuda/device-run.sh" "$stage/run.sh"
 du -sh "$stage"
