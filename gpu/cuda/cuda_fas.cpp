@@ -63,11 +63,11 @@ void validateCudaFasInput(const RingRules& rules, int depth, int count, const vo
 
 struct CudaFasBatch::Impl {
   WarpFasPlan plan;
-  RingRules deviceRules;  // sharpSpokes points to device memory (or is null)
+  WarpStepProgram deviceStep;  // records in `stepWords`
   int count = 0;
   int blocks = 1;
   detail::DeviceArray<float> rings, output, scratch;
-  detail::DeviceArray<uint8_t> sharpSpokes;
+  detail::DeviceArray<uint32_t> stepWords;
   cudaStream_t stream = nullptr;
   cudaEvent_t start = nullptr, stop = nullptr;
 
@@ -102,21 +102,17 @@ CudaFasBatch::CudaFasBatch(const RingRules& rules, int depth, int count, const f
     check(cudaMemcpy(s.rings.get(), hostRings, ringFloats * sizeof(float), cudaMemcpyHostToDevice),
           "cudaMemcpy(rings)");
   }
-  s.deviceRules = rules;
-  if (rules.sharpSpokes != nullptr) {
-    const size_t spokes = size_t(rules.shape.spokeCount());
-    s.sharpSpokes = allocate<uint8_t>(spokes, "cudaMalloc(sharp spokes)");
-    check(cudaMemcpy(s.sharpSpokes.get(), rules.sharpSpokes, spokes, cudaMemcpyHostToDevice),
-          "cudaMemcpy(sharp spokes)");
-    s.deviceRules.sharpSpokes = s.sharpSpokes.get();
-  }
+  const WarpStepImage step = makeWarpStepImage(rules);
+  s.stepWords = detail::uploadToDevice(step.words.data(), step.words.size(), "CUDA FAS",
+                                       "cudaMemcpy(step program)");
+  s.deviceStep = bindWarpStep(step, s.stepWords.get());
 }
 
 CudaFasBatch::~CudaFasBatch() = default;
 
 void CudaFasBatch::launch() {
   Impl& s = *impl_;
-  detail::launchWarpFas(s.plan, s.deviceRules, s.count, s.rings.get(), s.output.get(),
+  detail::launchWarpFas(s.plan, s.deviceStep, s.count, s.rings.get(), s.output.get(),
                         s.scratch.get(), s.blocks, s.stream);
 }
 

@@ -1,7 +1,8 @@
 // CER-based FAS on the GPU, one warp per extraordinary ring (paper §4.2 and §4.2.1): the ring
 // is loaded once, refined level by level in a ring buffer in shared memory, and every level's
 // refined set (12n+1 points) is written once to device memory. The per-lane work is
-// gpu/cuda/warp_fas.h, shared with the CPU-side warp simulation; the rules are core/fas_rules.h.
+// gpu/cuda/warp_fas.h, shared with the CPU-side warp simulation; the rules are core/fas_rules.h,
+// decoded once per batch (warp_step_program.h).
 //
 // Built with --fmad=false (see CMakeLists.txt): with no contraction, the same operations in the
 // same order round as core/fas.cpp (-ffp-contract=off) does, so results match the CPU bit for bit.
@@ -18,12 +19,10 @@ namespace {
 // variant spills at 32 registers and takes 6 blocks (40 registers, no spills).
 template <bool kSharedBuffers>
 __global__ void __launch_bounds__(kMaxWarpsPerBlock* kWarpSize, kSharedBuffers ? 8 : 6)
-    warpFasKernel(WarpFasPlan plan, RingRules rules, int count, const float* __restrict__ rings,
-                  float* __restrict__ output, float* __restrict__ scratch) {
+    warpFasKernel(WarpFasPlan plan, WarpStepProgram step, int count,
+                  const float* __restrict__ rings, float* __restrict__ output,
+                  float* __restrict__ scratch) {
   extern __shared__ float4 shared[];  // float4: 16-byte alignment for the layout in warp_fas.h
-  const RingRules staged =
-      stageSharpSpokes(rules, plan.sharedFlags(shared), int(threadIdx.x), int(blockDim.x));
-  __syncthreads();
 
   const int lane = int(threadIdx.x) % kWarpSize;
   const int warp = int(threadIdx.x) / kWarpSize;
@@ -36,9 +35,9 @@ __global__ void __launch_bounds__(kMaxWarpsPerBlock* kWarpSize, kSharedBuffers ?
     warpLoadRing(layout, lane, rings + layout.inputOffset(ring), buffer);
     __syncwarp();
     for (int level = 0; level < layout.depth; ++level) {
-      warpFacePass(staged, layout, lane, buffer);
+      warpFacePass(step, layout, lane, buffer);
       __syncwarp();
-      warpEdgeVertexPass(staged, layout, lane, buffer);
+      warpEdgeVertexPass(step, layout, lane, buffer);
       __syncwarp();
       warpStoreLevel(layout, lane, buffer, output + layout.outputOffset(ring, level));
       __syncwarp();
@@ -68,16 +67,16 @@ int residentBlocks(const WarpFasPlan& plan) {
   return plan.sharedBuffers ? residentBlocksOf<true>(plan) : residentBlocksOf<false>(plan);
 }
 
-void launchWarpFas(const WarpFasPlan& plan, const RingRules& deviceRules, int count,
+void launchWarpFas(const WarpFasPlan& plan, const WarpStepProgram& deviceStep, int count,
                    const float* rings, float* output, float* scratch, int blocks,
                    cudaStream_t stream) {
   if (count <= 0) return;
   const dim3 grid{unsigned(blocks)}, block{unsigned(plan.warpsPerBlock * kWarpSize)};
   if (plan.sharedBuffers) {
-    warpFasKernel<true><<<grid, block, plan.sharedBytes(), stream>>>(plan, deviceRules, count,
+    warpFasKernel<true><<<grid, block, plan.sharedBytes(), stream>>>(plan, deviceStep, count,
                                                                      rings, output, scratch);
   } else {
-    warpFasKernel<false><<<grid, block, plan.sharedBytes(), stream>>>(plan, deviceRules, count,
+    warpFasKernel<false><<<grid, block, plan.sharedBytes(), stream>>>(plan, deviceStep, count,
                                                                       rings, output, scratch);
   }
   check(cudaGetLastError(), "warpFasKernel launch");

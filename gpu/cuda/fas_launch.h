@@ -12,9 +12,9 @@ namespace tessera::cuda::detail {
 // least 1. The launch uses min(this, blocks needed) and walks the rings grid-stride.
 int residentBlocks(const WarpFasPlan& plan);
 
-// Enqueues the kernel on `stream`. `deviceRules.sharpSpokes` is a device pointer (or null);
+// Enqueues the kernel on `stream`. `deviceStep`'s records are in device memory;
 // `scratch` holds plan.scratchFloats(blocks) floats when the plan's buffers are global.
-void launchWarpFas(const WarpFasPlan& plan, const RingRules& deviceRules, int count,
+void launchWarpFas(const WarpFasPlan& plan, const WarpStepProgram& deviceStep, int count,
                    const float* rings, float* output, float* scratch, int blocks,
                    cudaStream_t stream);
 

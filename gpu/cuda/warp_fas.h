@@ -4,9 +4,10 @@
 //
 // One warp owns one extraordinary ring at a time. Its ring buffer has two halves: the current
 // ring (6n+1 points) and the refined set (12n+1 points), xyz floats per point (W = 3 in
-// fas_rules.h). A level is three phases:
-//   1. face points, one sector per lane                                  (refineSectorFaces)
-//   2. spoke edges/vertices and sector interiors, one per lane, and the EV on lane 0
+// fas_rules.h). The step's rules come decoded (warp_step_program.h), so the lanes stride over
+// records rather than sectors. A level is three phases:
+//   1. the 4n face points, lane k taking records k, k+32, …          (refineSectorFaces)
+//   2. edge and vertex points likewise, and the EV on lanes 0–2, one coordinate each
 //   3. the refined set streamed to device memory by all lanes, its prefix (the next ring)
 //      copied back into the ring half in the same pass.
 // After the last level the ring half holds the innermost ring.
@@ -19,6 +20,7 @@
 
 #include "core/fas_rules.h"
 #include "core/host_device.h"
+#include "gpu/cuda/warp_step_program.h"
 
 namespace tessera::cuda {
 
@@ -54,27 +56,24 @@ TESSERA_HD WarpFasLayout makeWarpFasLayout(const cer::RingShape& shape, int dept
   return layout;
 }
 
-// How a launch spreads rings over warps and where each warp's buffer lives. Shared memory holds
-// the sharp-spoke flags first (rounded up to 16 bytes), then one ring buffer per warp.
+// How a launch spreads rings over warps and where each warp's buffer lives: shared memory holds
+// one ring buffer per warp.
 struct WarpFasPlan {
   WarpFasLayout layout;
   int warpsPerBlock = 0;
-  int flagBytes = 0;
   bool sharedBuffers = true;  // false: ring buffers in global scratch (valence > 64)
 
   TESSERA_HD size_t bufferBytes() const { return size_t(layout.bufferFloats()) * sizeof(float); }
   TESSERA_HD size_t sharedBytes() const {
-    return size_t(flagBytes) + (sharedBuffers ? size_t(warpsPerBlock) * bufferBytes() : 0);
+    return sharedBuffers ? size_t(warpsPerBlock) * bufferBytes() : 0;
   }
   // Scratch floats a grid of `blocks` needs when the buffers are global.
   TESSERA_HD size_t scratchFloats(int blocks) const {
     return sharedBuffers ? 0
                          : size_t(blocks) * size_t(warpsPerBlock) * size_t(layout.bufferFloats());
   }
-  TESSERA_HD uint8_t* sharedFlags(void* shared) const { return static_cast<uint8_t*>(shared); }
   TESSERA_HD float* sharedWarpBuffer(void* shared, int warp) const {
-    return reinterpret_cast<float*>(static_cast<uint8_t*>(shared) + flagBytes) +
-           size_t(warp) * size_t(layout.bufferFloats());
+    return static_cast<float*>(shared) + size_t(warp) * size_t(layout.bufferFloats());
   }
   TESSERA_HD float* scratchWarpBuffer(float* scratch, int block, int warp) const {
     return scratch +
@@ -89,27 +88,13 @@ struct WarpFasPlan {
 inline WarpFasPlan planWarpFas(const cer::RingShape& shape, int depth) {
   WarpFasPlan plan;
   plan.layout = makeWarpFasLayout(shape, depth);
-  plan.flagBytes = (shape.spokeCount() + 15) / 16 * 16;
   plan.sharedBuffers = shape.sectors <= kMaxSharedValence;
   plan.warpsPerBlock = kMaxWarpsPerBlock;
   if (plan.sharedBuffers) {
-    int fit = int((kSharedBytesPerBlock - plan.flagBytes) / plan.bufferBytes());
+    int fit = int(kSharedBytesPerBlock / plan.bufferBytes());
     plan.warpsPerBlock = fit < kMaxWarpsPerBlock ? fit : kMaxWarpsPerBlock;
   }
   return plan;
-}
-
-// Block-wide, before the warps start: copy the sharp-spoke flags next to the ring buffers, so
-// that refineSpoke reads them from shared memory. Returns the rules the warps use.
-TESSERA_HD RingRules stageSharpSpokes(const RingRules& rules, uint8_t* sharedFlags, int thread,
-                                      int threads) {
-  RingRules staged = rules;
-  if (rules.sharpSpokes == nullptr) return staged;
-  for (int s = thread; s < rules.shape.spokeCount(); s += threads) {
-    sharedFlags[s] = rules.sharpSpokes[s];
-  }
-  staged.sharpSpokes = sharedFlags;
-  return staged;
 }
 
 // Phase 0: the ring's 6n+1 points into the ring half; consecutive lanes read consecutive floats.
@@ -118,30 +103,61 @@ TESSERA_HD void warpLoadRing(const WarpFasLayout& layout, int lane, const float*
   for (int f = lane; f < layout.ringFloats; f += kWarpSize) buffer[f] = ring[f];
 }
 
-// Phase 1: the four face points of each sector (needed by every rule of phase 2).
-TESSERA_HD void warpFacePass(const RingRules& rules, const WarpFasLayout& layout, int lane,
+// Phase 1: the face points (needed by every rule of phase 2).
+TESSERA_HD void warpFacePass(const WarpStepProgram& step, const WarpFasLayout& layout, int lane,
                              float* buffer) {
-  const float* ring = buffer;
-  float* refined = buffer + layout.ringFloats;
-  for (int i = lane; i < rules.shape.sectors; i += kWarpSize) {
-    refineSectorFaces<3>(rules, i, ring, refined);
+  const float* in = buffer;
+  float* out = buffer + layout.ringFloats;
+  for (int k = lane; k < step.faceCount; k += kWarpSize) {
+    const StepProgram::Face& f = step.faces[k];
+    fas_detail::average4<3, float>(out + f.out, in + f.a, in + f.b, in + f.c, in + f.d);
   }
 }
 
-// Phase 2: edge and vertex points. Spokes, sector interiors and the EV write disjoint points and
-// read only the ring and phase-1 face points, so they share one phase.
-TESSERA_HD void warpEdgeVertexPass(const RingRules& rules, const WarpFasLayout& layout, int lane,
-                                   float* buffer) {
-  const float* ring = buffer;
-  float* refined = buffer + layout.ringFloats;
-  for (int j = lane; j < rules.shape.spokeCount(); j += kWarpSize) {
-    refineSpoke<3>(rules, j, ring, refined);
+// Phase 2, the EV: lane k < 3 computes coordinate k, summing the sectors in refineRing's order
+// (refineExtraordinaryVertex), which keeps the result bit-identical to it.
+TESSERA_HD void warpExtraordinaryVertex(const WarpStepProgram& step, int k, const float* in,
+                                        float* out) {
+  if (step.evRule == EvRule::kCorner) {
+    out[k] = in[k];
+  } else if (step.evRule == EvRule::kCrease) {
+    fas_detail::creaseVertex<1, float>(out + k, in + k, in + step.evCreaseA + k,
+                                       in + step.evCreaseB + k);
+  } else {
+    float sum = 0;
+    for (int i = 0; i < step.evTermCount; ++i) {
+      sum += in[step.evTerms[i].edge + k] + out[step.evTerms[i].face + k];
+    }
+    out[k] = step.evSelfWeight * in[k] + step.evRingWeight * sum;
   }
-  for (int i = lane; i < rules.shape.sectors; i += kWarpSize) {
-    refineSectorInterior<3>(rules, i, ring, refined);
+}
+
+// Phase 2: edge and vertex points. They write disjoint points and read only the ring and
+// phase-1 face points, so they share one phase.
+TESSERA_HD void warpEdgeVertexPass(const WarpStepProgram& step, const WarpFasLayout& layout,
+                                   int lane, float* buffer) {
+  using namespace fas_detail;
+  const float* in = buffer;
+  float* out = buffer + layout.ringFloats;
+  for (int k = lane; k < step.smoothEdgeCount; k += kWarpSize) {
+    const StepProgram::SmoothEdge& e = step.smoothEdges[k];
+    average4<3, float>(out + e.out, in + e.v0, in + e.v1, out + e.f0, out + e.f1);
   }
-  // Sums the n sectors in the CPU path's order, which keeps the result bit-identical to it.
-  if (lane == 0) refineExtraordinaryVertex<3>(rules, ring, refined);
+  for (int k = lane; k < step.sharpEdgeCount; k += kWarpSize) {
+    const StepProgram::SharpEdge& e = step.sharpEdges[k];
+    midpoint<3, float>(out + e.out, in + e.v0, in + e.v1);
+  }
+  for (int k = lane; k < step.smoothVertexCount; k += kWarpSize) {
+    const StepProgram::SmoothVertex& v = step.smoothVertices[k];
+    const float* const neighbours[4] = {in + v.n[0], in + v.n[1], in + v.n[2], in + v.n[3]};
+    const float* const faces[4] = {out + v.f[0], out + v.f[1], out + v.f[2], out + v.f[3]};
+    regularVertex<3, float>(out + v.out, in + v.v, neighbours, faces);
+  }
+  for (int k = lane; k < step.creaseVertexCount; k += kWarpSize) {
+    const StepProgram::CreaseVertex& v = step.creaseVertices[k];
+    creaseVertex<3, float>(out + v.out, in + v.v, in + v.n0, in + v.n1);
+  }
+  if (lane < 3) warpExtraordinaryVertex(step, lane, in, out);
 }
 
 // Phase 3: the refined set to device memory (written once, coalesced) and its first 6n+1 points
