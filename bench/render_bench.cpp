@@ -59,7 +59,7 @@ Renderer& sharedRenderer() {
   return renderer;
 }
 
-void runFrames(benchmark::State& state, bool mixed) {
+void runFrames(benchmark::State& state, bool mixed, GeometryPath path) {
   int k = static_cast<int>(state.range(0));
   uint32_t level = static_cast<uint32_t>(state.range(1));
   std::vector<RenderPatch> patches = spherePatches(k, level, mixed);
@@ -69,8 +69,9 @@ void runFrames(benchmark::State& state, bool mixed) {
   camera.height = 1080;
   RenderOptions options;
   options.crackFilling = state.range(2) != 0;
+  options.path = path;
   Renderer& renderer = sharedRenderer();
-  renderer.render(patches, camera, options);  // warm-up: allocations, pipeline first use
+  const Frame first = renderer.render(patches, camera, options);  // warm-up: allocations, pipelines
   double tess = 0, raster = 0, crack = 0, gpu = 0, host = 0, tris = 0;
   for (auto _ : state) {
     Frame frame = renderer.render(patches, camera, options);
@@ -89,14 +90,21 @@ void runFrames(benchmark::State& state, bool mixed) {
   state.counters["gpu_ms"] = gpu / n;
   state.counters["host_ms"] = host / n;
   state.counters["Mtris"] = tris / n / 1e6;
-  state.SetLabel(renderer.info().name);
+  state.SetLabel(renderer.info().name + (first.pathUsed == GeometryPath::kMeshShader
+                                              ? ", mesh shaders"
+                                              : ", compute"));
 }
 
+// The device's own choice (mesh shaders where it has them), and the compute path forced, so that
+// a GPU with mesh shaders times both paths in one process.
 void Uniform(benchmark::State& state) {
-  runFrames(state, false);
+  runFrames(state, false, GeometryPath::kAuto);
+}
+void UniformCompute(benchmark::State& state) {
+  runFrames(state, false, GeometryPath::kCompute);
 }
 void MixedLevels(benchmark::State& state) {
-  runFrames(state, true);
+  runFrames(state, true, GeometryPath::kAuto);
 }
 
 // Args: {k (6·k² patches), level, crack filling}. k = 24 gives 3456 patches.
@@ -105,6 +113,11 @@ BENCHMARK(Uniform)
     ->Args({24, 8, 1})
     ->Args({24, 16, 1})
     ->Args({24, 16, 0})
+    ->Args({24, 32, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK(UniformCompute)
+    ->Args({24, 16, 1})
     ->Args({24, 32, 1})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

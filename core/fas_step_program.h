@@ -1,13 +1,14 @@
 // One CER refinement step (fas_rules.h) decoded for a ring shape: the operands of every refined
-// point as offsets into the ring block and the refined block (CPU block path of fas.cpp).
+// point as offsets into the ring block and the refined block (CPU block path of fas.cpp, and the
+// CUDA kernel through gpu/cuda/warp_step_program.h).
 //
 // refineRingBlocks refines thousands of blocks of one shape level by level. Running the
 // recovering and locating operators of cer_layout.h for every point of every block at every
 // level cost about as many instructions as the stencils themselves (8/16-bit unpacking, `/4`,
 // `/6`, `% sectors`, switches; bench/RESULTS.md "Profile"). They depend on the shape alone, so
 // they run once per call here and the kernel only reads this table (about 3 KB at n = 10, in
-// L1). The operators stay the single source of connectivity; CUDA keeps calling them per point
-// (paper §4.1), where the ALU would otherwise be idle.
+// L1). The operators stay the single source of connectivity. The CUDA kernel first called them
+// per point (paper §4.1); on an H200 that made it issue-bound, and it reads this table too.
 #pragma once
 
 #include <cstdint>

@@ -2,14 +2,20 @@
 // one valence refined to depth 4, 5 and 6, every level's 12n+1 points written to device memory.
 // Rings are uploaded once; each case times only the kernels, with CUDA events, as the mean of
 // several launches after a warm-up launch. Before timing, a sample of rings is checked against
-// the CPU path (core/fas.h refineRing) so that a wrong kernel cannot report a fast time.
+// the CPU path (core/fas.h refineRing) so that a wrong kernel cannot report a fast time. The
+// baseline beside it, in the same process: the CPU's refineRingBlocks on the same rings (all
+// cores, packed and output buffer prepared untimed), median of 5 calls after a warm-up.
 //
 // Usage: tessera-cuda-bench [--rings N] [--repetitions R] [--valences 3,5,6] [--depths 4,5,6]
+#include <tbb/info.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -93,6 +99,26 @@ double checkAgainstCpu(const RingRules& rules, int depth, const std::vector<floa
   return extent > 0 ? worst / extent : worst;
 }
 
+// Median wall-clock ms of refineRingBlocks over the same rings, everything prepared untimed.
+double cpuMedianMs(const RingRules& rules, int depth, const std::vector<float>& rings, int count) {
+  const std::vector<float> blocks = packRingBlocks(rules.shape, rings.data(), count);
+  const int blockCount = (count + kFasLanes - 1) / kFasLanes;
+  const size_t outputFloats = size_t(blockCount) * size_t(depth) * refinedBlockFloats(rules.shape);
+  std::unique_ptr<float[], decltype(&std::free)> output(
+      static_cast<float*>(std::aligned_alloc(64, (outputFloats * sizeof(float) + 63) / 64 * 64)),
+      &std::free);
+  std::fill_n(output.get(), outputFloats, 0.0f);
+  std::vector<double> times;
+  for (int run = 0; run < 6; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    refineRingBlocks(rules, blocks.data(), blockCount, depth, output.get());
+    const auto stop = std::chrono::steady_clock::now();
+    if (run > 0) times.push_back(std::chrono::duration<double, std::milli>(stop - start).count());
+  }
+  std::nth_element(times.begin(), times.begin() + 2, times.end());
+  return times[2];
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -106,10 +132,11 @@ int main(int argc, char** argv) {
   const cuda::CudaDeviceInfo device = cuda::queryCudaDevice();
   std::printf("device: %s\n", device.summary().c_str());
   if (!device.available) return 1;
-  std::printf("%d rings per case, mean of %d launches after one warm-up; kernel time only\n\n",
-              options.rings, options.repetitions);
-  std::printf("%7s %5s %10s %12s %10s %8s %6s %12s\n", "valence", "depth", "ms", "GB written",
-              "GB/s", "blocks", "warps", "max rel err");
+  std::printf("%d rings per case, mean of %d launches after one warm-up; kernel time only. "
+              "CPU: refineRingBlocks, %d TBB threads, median of 5\n\n",
+              options.rings, options.repetitions, tbb::info::default_concurrency());
+  std::printf("%7s %5s %10s %12s %10s %8s %6s %12s %10s %8s\n", "valence", "depth", "ms",
+              "GB written", "GB/s", "blocks", "warps", "max rel err", "CPU ms", "CPU/GPU");
   bool allExact = true, allWithinTolerance = true;
   for (int depth : options.depths) {
     for (int n : options.valences) {
@@ -125,9 +152,10 @@ int main(int argc, char** argv) {
       allWithinTolerance = allWithinTolerance && error <= 1e-6;
       const float milliseconds = batch.timeKernelMs(options.repetitions);
       const double gigabytes = double(batch.outputFloats()) * sizeof(float) / 1e9;
-      std::printf("%7d %5d %10.3f %12.3f %10.1f %8d %6d %12.2e\n", n, depth, milliseconds,
-                  gigabytes, gigabytes / (milliseconds / 1e3), batch.blocks(),
-                  batch.warpsPerBlock(), error);
+      const double cpuMs = cpuMedianMs(rules, depth, rings, options.rings);
+      std::printf("%7d %5d %10.3f %12.3f %10.1f %8d %6d %12.2e %10.2f %8.1f\n", n, depth,
+                  milliseconds, gigabytes, gigabytes / (milliseconds / 1e3), batch.blocks(),
+                  batch.warpsPerBlock(), error, cpuMs, cpuMs / milliseconds);
     }
   }
   std::printf("\nGPU output %s the CPU path on the checked rings\n",
