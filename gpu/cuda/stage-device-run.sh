@@ -4,7 +4,9 @@
 # (Table 1: FAS; Table 2: the uniform grid), the Vulkan renderer's tests and benchmarks, the shared
 # libraries a bare CUDA image lacks (found with ldd; glibc, libstdc++ and the driver stay the
 # machine's own), the Vulkan loader and glvnd packages (docs: ../.library/device/README.md), the
-# Khronos validation layer, and the shared meshes the tests read. The GPU machine cannot build Tessera
+# Khronos validation layer, and the shared meshes the tests read. tessera-bench comes along for the
+# CPU benchmarks on that machine's own cores: it reads bench/oracle_rates.csv under the source path
+# compiled into it, so link the checkout there to that path first. The GPU machine cannot build Tessera
 # (no OpenSubdiv, TBB, GoogleTest or Vulkan headers there); it only runs this.
 # Then, on the GPU machine, from the repository root (carry: build/device-run):
 #   build/device-run/run.sh
@@ -14,7 +16,7 @@ build="$root/build"
 [ -f "$build/CMakeCache.txt" ] || cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
 programs=(tests/cuda/tessera-cuda-tests gpu/cuda/tessera-cuda-bench gpu/cuda/tessera-cuda-table2
           tests/vulkan/tessera-render-tests tests/render_engine/tessera-render-engine-tests
-          gpu/vulkan/tessera-render-bench gpu/render_engine/tessera-frame-bench)
+          gpu/vulkan/tessera-render-bench gpu/render_engine/tessera-frame-bench bench/tessera-bench)
 targets=()
 for program in "${programs[@]}"; do targets+=("$(basename "$program")"); done
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]}"
