@@ -68,15 +68,7 @@ struct CudaFasBatch::Impl {
   int blocks = 1;
   detail::DeviceArray<float> rings, output, scratch;
   detail::DeviceArray<uint32_t> stepWords;
-  cudaStream_t stream = nullptr;
-  cudaEvent_t start = nullptr, stop = nullptr;
-
-  ~Impl() {
-    if (stream != nullptr) cudaStreamSynchronize(stream);
-    if (start != nullptr) cudaEventDestroy(start);
-    if (stop != nullptr) cudaEventDestroy(stop);
-    if (stream != nullptr) cudaStreamDestroy(stream);
-  }
+  std::optional<detail::TimedStream> stream;  // created once a device is known; destroyed first
 };
 
 CudaFasBatch::CudaFasBatch(const RingRules& rules, int depth, int count, const float* hostRings)
@@ -90,9 +82,7 @@ CudaFasBatch::CudaFasBatch(const RingRules& rules, int depth, int count, const f
   const int resident = detail::residentBlocks(s.plan);
   s.blocks = needed < resident ? (needed > 0 ? needed : 1) : resident;
 
-  check(cudaStreamCreateWithFlags(&s.stream, cudaStreamNonBlocking), "cudaStreamCreate");
-  check(cudaEventCreate(&s.start), "cudaEventCreate");
-  check(cudaEventCreate(&s.stop), "cudaEventCreate");
+  s.stream.emplace("CUDA FAS");
 
   const size_t ringFloats = size_t(count) * size_t(s.plan.layout.ringFloats);
   s.rings = allocate<float>(ringFloats, "cudaMalloc(rings)");
@@ -113,24 +103,17 @@ CudaFasBatch::~CudaFasBatch() = default;
 void CudaFasBatch::launch() {
   Impl& s = *impl_;
   detail::launchWarpFas(s.plan, s.deviceStep, s.count, s.rings.get(), s.output.get(),
-                        s.scratch.get(), s.blocks, s.stream);
+                        s.scratch.get(), s.blocks, s.stream->get());
 }
 
 float CudaFasBatch::timeKernelMs(int repetitions) {
   if (repetitions < 1) throwInvalid("CUDA FAS: timing needs at least 1 repetition");
-  Impl& s = *impl_;
-  check(cudaEventRecord(s.start, s.stream), "cudaEventRecord");
-  for (int r = 0; r < repetitions; ++r) launch();
-  check(cudaEventRecord(s.stop, s.stream), "cudaEventRecord");
-  check(cudaEventSynchronize(s.stop), "cudaEventSynchronize");
-  float milliseconds = 0.0f;
-  check(cudaEventElapsedTime(&milliseconds, s.start, s.stop), "cudaEventElapsedTime");
-  return milliseconds / float(repetitions);
+  return impl_->stream->meanMs(repetitions, [this] { launch(); });
 }
 
 std::vector<float> CudaFasBatch::download() {
   Impl& s = *impl_;
-  check(cudaStreamSynchronize(s.stream), "FAS kernel");  // reports faults of the kernel itself
+  s.stream->synchronize("FAS kernel");
   std::vector<float> result(outputFloats());
   if (!result.empty()) {
     check(cudaMemcpy(result.data(), s.output.get(), result.size() * sizeof(float),

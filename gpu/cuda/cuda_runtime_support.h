@@ -6,6 +6,7 @@
 #include <cuda_runtime_api.h>
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -44,6 +45,60 @@ DeviceArray<T> uploadToDevice(const T* host, size_t count, const char* component
   }
   return array;
 }
+
+// A non-blocking stream and two events to time what is enqueued on it. Destroying it waits for
+// the stream first, so declare it after the device arrays its kernels use (members are destroyed
+// in reverse order).
+class TimedStream {
+ public:
+  explicit TimedStream(const char* component) : component_(component) {
+    try {
+      checkCuda(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), component,
+                "cudaStreamCreate");
+      checkCuda(cudaEventCreate(&start_), component, "cudaEventCreate");
+      checkCuda(cudaEventCreate(&stop_), component, "cudaEventCreate");
+    } catch (...) {
+      release();
+      throw;
+    }
+  }
+  ~TimedStream() { release(); }
+  TimedStream(const TimedStream&) = delete;
+  TimedStream& operator=(const TimedStream&) = delete;
+
+  cudaStream_t get() const { return stream_; }
+
+  // Mean milliseconds per call of `enqueue` over `repetitions` back-to-back calls, measured by
+  // the two events around them (the kernels alone, no transfers).
+  template <class Enqueue>
+  float meanMs(int repetitions, Enqueue&& enqueue) {
+    checkCuda(cudaEventRecord(start_, stream_), component_, "cudaEventRecord");
+    for (int r = 0; r < repetitions; ++r) enqueue();
+    checkCuda(cudaEventRecord(stop_, stream_), component_, "cudaEventRecord");
+    checkCuda(cudaEventSynchronize(stop_), component_, "cudaEventSynchronize");
+    float milliseconds = 0.0f;
+    checkCuda(cudaEventElapsedTime(&milliseconds, start_, stop_), component_,
+              "cudaEventElapsedTime");
+    return milliseconds / float(repetitions);
+  }
+
+  // Waits for the stream; a fault of a kernel on it is reported here, naming `what`.
+  void synchronize(const char* what) {
+    checkCuda(cudaStreamSynchronize(stream_), component_, what);
+  }
+
+ private:
+  void release() {
+    if (stream_ != nullptr) cudaStreamSynchronize(stream_);
+    if (start_ != nullptr) cudaEventDestroy(start_);
+    if (stop_ != nullptr) cudaEventDestroy(stop_);
+    if (stream_ != nullptr) cudaStreamDestroy(stream_);
+  }
+
+  const char* component_;
+  cudaStream_t stream_ = nullptr;
+  cudaEvent_t start_ = nullptr, stop_ = nullptr;
+};
 
 // Throws TesseraError(kUnsupported, "no CUDA device: <CUDA's reason>") when there is none.
 inline void requireCudaDevice() {

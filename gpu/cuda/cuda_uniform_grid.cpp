@@ -15,7 +15,9 @@ namespace {
 
 constexpr const char* kComponent = "CUDA uniform grid";
 
-void check(cudaError_t status, const char* what) { detail::checkCuda(status, kComponent, what); }
+void check(cudaError_t status, const char* what) {
+  detail::checkCuda(status, kComponent, what);
+}
 
 }  // namespace
 
@@ -25,8 +27,8 @@ GridUpload makeGridUpload(const PatchSet& patches, const UniformGrid& grid) {
   upload.nets.reserve(grid.pieces.size() * 16);
   upload.pieces.reserve(grid.pieces.size());
   for (size_t q = 0; q < grid.pieces.size(); ++q) {
-    const ControlNet& net = q < grid.regularPieces ? patches.regular.bspline[q]
-                                                   : grid.ringNets[q - grid.regularPieces];
+    const ControlNet& net =
+        q < grid.regularPieces ? patches.regular.bspline[q] : grid.ringNets[q - grid.regularPieces];
     upload.nets.insert(upload.nets.end(), net.begin(), net.end());
     const GridPiece piece = grid.pieces[q];
     auto [table, added] = tables.try_emplace({piece.level, piece.basis}, upload.weights.size());
@@ -49,15 +51,7 @@ struct CudaUniformGrid::Impl {
   detail::DeviceArray<ParameterWeights> weights;
   detail::DeviceArray<uint64_t> offsets;
   detail::DeviceArray<uint32_t> blockFirstPiece;
-  cudaStream_t stream = nullptr;
-  cudaEvent_t start = nullptr, stop = nullptr;
-
-  ~Impl() {
-    if (stream != nullptr) cudaStreamSynchronize(stream);
-    if (start != nullptr) cudaEventDestroy(start);
-    if (stop != nullptr) cudaEventDestroy(stop);
-    if (stream != nullptr) cudaStreamDestroy(stream);
-  }
+  std::optional<detail::TimedStream> stream;  // created once a device is known; destroyed first
 };
 
 CudaUniformGrid::CudaUniformGrid(const PatchSet& patches, const UniformGrid& grid)
@@ -69,9 +63,7 @@ CudaUniformGrid::CudaUniformGrid(const PatchSet& patches, const UniformGrid& gri
   detail::requireCudaDevice();
   const GridUpload upload = makeGridUpload(patches, grid);
   Impl& s = *impl_;
-  check(cudaStreamCreateWithFlags(&s.stream, cudaStreamNonBlocking), "cudaStreamCreate");
-  check(cudaEventCreate(&s.start), "cudaEventCreate");
-  check(cudaEventCreate(&s.stop), "cudaEventCreate");
+  s.stream.emplace(kComponent);
   s.nets = detail::uploadToDevice(upload.nets.data(), upload.nets.size(), kComponent, "nets");
   s.pieces =
       detail::uploadToDevice(upload.pieces.data(), upload.pieces.size(), kComponent, "pieces");
@@ -95,24 +87,17 @@ CudaUniformGrid::CudaUniformGrid(const PatchSet& patches, const UniformGrid& gri
 CudaUniformGrid::~CudaUniformGrid() = default;
 
 void CudaUniformGrid::launch() {
-  detail::launchUniformGrid(impl_->view, impl_->stream);
+  detail::launchUniformGrid(impl_->view, impl_->stream->get());
 }
 
 float CudaUniformGrid::timeKernelMs(int repetitions) {
   if (repetitions < 1) throwInvalid("CUDA uniform grid: timing needs at least 1 repetition");
-  Impl& s = *impl_;
-  check(cudaEventRecord(s.start, s.stream), "cudaEventRecord");
-  for (int r = 0; r < repetitions; ++r) launch();
-  check(cudaEventRecord(s.stop, s.stream), "cudaEventRecord");
-  check(cudaEventSynchronize(s.stop), "cudaEventSynchronize");
-  float milliseconds = 0.0f;
-  check(cudaEventElapsedTime(&milliseconds, s.start, s.stop), "cudaEventElapsedTime");
-  return milliseconds / float(repetitions);
+  return impl_->stream->meanMs(repetitions, [this] { launch(); });
 }
 
 std::vector<Vec3> CudaUniformGrid::download() {
   Impl& s = *impl_;
-  check(cudaStreamSynchronize(s.stream), "uniformGridKernel");
+  s.stream->synchronize("uniformGridKernel");
   std::vector<Vec3> samples(s.view.sampleCount);
   if (!samples.empty()) {
     check(cudaMemcpy(samples.data(), s.out.get(), samples.size() * sizeof(Vec3),

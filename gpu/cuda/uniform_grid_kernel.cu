@@ -1,6 +1,6 @@
 // The uniform grid on the GPU (paper Table 2): the blocks' first pieces, then one thread per
-// sample; the per-thread work is gpu/cuda/grid_threads.h. Built with --fmad=false like the FAS kernel, so the
-// samples equal the CPU's evaluateUniformGrid bit for bit (core/grid_sample.h).
+// sample; the per-thread work is gpu/cuda/grid_threads.h. Built with --fmad=false like the FAS
+// kernel, so the samples equal the CPU's evaluateUniformGrid bit for bit (core/grid_sample.h).
 #include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/grid_launch.h"
 
@@ -22,11 +22,11 @@ __global__ void __launch_bounds__(kGridSamplesPerBlock) uniformGridKernel(GridVi
 
 void launchUniformGrid(const GridView& view, cudaStream_t stream) {
   if (view.sampleCount == 0) return;
-  const auto markBlocks = unsigned((view.pieceCount + kGridSamplesPerBlock - 1) / kGridSamplesPerBlock);
+  const auto markBlocks =
+      unsigned((view.pieceCount + kGridSamplesPerBlock - 1) / kGridSamplesPerBlock);
   markBlocksKernel<<<dim3(markBlocks), dim3(kGridSamplesPerBlock), 0, stream>>>(view);
   checkCuda(cudaGetLastError(), "CUDA uniform grid", "markBlocksKernel launch");
-  uniformGridKernel<<<dim3(unsigned(view.blocks())), dim3(kGridSamplesPerBlock), 0, stream>>>(
-      view);
+  uniformGridKernel<<<dim3(unsigned(view.blocks())), dim3(kGridSamplesPerBlock), 0, stream>>>(view);
   checkCuda(cudaGetLastError(), "CUDA uniform grid", "uniformGridKernel launch");
 }
 

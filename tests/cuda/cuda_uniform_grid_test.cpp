@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/obj_reader.h"
 #include "gpu/cuda/device_info.h"
+#include "tests/cuda/grid_cases.h"
 #include "tests/support/models.h"
 
 namespace tessera::cuda {
@@ -30,27 +31,21 @@ size_t differingSamples(const std::vector<Vec3>& a, const std::vector<Vec3>& b) 
 
 TEST(CudaUniformGrid, EqualsTheCpuGridBitForBit) {
   if (!device().available) GTEST_SKIP() << "no CUDA device: " << device().reason;
-  for (const char* name : {"bigguy", "car"}) {
-    const PatchSet set = buildPatchSet(readObjFile(testing::modelsDir() + "/" + name + ".obj"));
-    for (int p : {64, 15, 1}) {
-      UniformGrid grid;
-      planUniformGrid(set, p, grid);
-      std::vector<Vec3> expected(grid.samples());
-      evaluateUniformGrid(set, grid, expected.data());
-      CudaUniformGrid gpu(set, grid);
-      gpu.launch();
-      const std::vector<Vec3> first = gpu.download();
-      EXPECT_EQ(differingSamples(first, expected), 0u) << name << " p=" << p;
-      gpu.launch();  // a second launch over the same buffers writes the same samples
-      EXPECT_EQ(differingSamples(gpu.download(), first), 0u) << name << " p=" << p;
-    }
-  }
+  testing::forEachGridCase(
+      GridKernel::kAvx2, [](const std::string& name, int p, const PatchSet& patches,
+                            const UniformGrid& grid, const std::vector<Vec3>& expected) {
+        CudaUniformGrid gpu(patches, grid);
+        gpu.launch();
+        const std::vector<Vec3> first = gpu.download();
+        EXPECT_EQ(differingSamples(first, expected), 0u) << name << " p=" << p;
+        gpu.launch();  // a second launch over the same buffers writes the same samples
+        EXPECT_EQ(differingSamples(gpu.download(), first), 0u) << name << " p=" << p;
+      });
 }
 
 TEST(CudaUniformGrid, WithoutADeviceTheErrorNamesCuda) {
   if (device().available) GTEST_SKIP() << "a CUDA device is present: " << device().summary();
-  const PatchSet set =
-      buildPatchSet(readObjFile(testing::modelsDir() + "/bigguy.obj"));
+  const PatchSet set = buildPatchSet(readObjFile(tessera::testing::modelsDir() + "/bigguy.obj"));
   UniformGrid grid;
   planUniformGrid(set, 4, grid);
   try {

@@ -13,10 +13,9 @@
 #include <random>
 #include <string>
 
-#include "core/obj_reader.h"
 #include "gpu/cuda/cuda_uniform_grid.h"
 #include "gpu/cuda/grid_threads.h"
-#include "tests/support/models.h"
+#include "tests/cuda/grid_cases.h"
 
 namespace tessera::cuda {
 namespace {
@@ -67,18 +66,12 @@ long firstDifference(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 }
 
 TEST(GridSimulation, EqualsTheCpuReferenceBitForBit) {
-  // bigguy: regular patches and rings of several depths; car: deep isolation, mostly N = 1.
-  for (const char* name : {"bigguy", "car"}) {
-    const PatchSet set = buildPatchSet(readObjFile(testing::modelsDir() + "/" + name + ".obj"));
-    for (int p : {64, 15, 1}) {
-      UniformGrid grid;
-      planUniformGrid(set, p, grid);
-      std::vector<Vec3> expected(grid.samples());
-      evaluateUniformGrid(set, grid, expected.data(), GridKernel::kScalar);
-      const std::vector<Vec3> simulated = simulateUniformGrid(makeGridUpload(set, grid), 7u + p);
-      EXPECT_EQ(firstDifference(simulated, expected), -1) << name << " p=" << p;
-    }
-  }
+  testing::forEachGridCase(GridKernel::kScalar, [](const std::string& name, int p,
+                                                   const PatchSet& patches, const UniformGrid& grid,
+                                                   const std::vector<Vec3>& expected) {
+    const std::vector<Vec3> simulated = simulateUniformGrid(makeGridUpload(patches, grid), 7u + p);
+    EXPECT_EQ(firstDifference(simulated, expected), -1) << name << " p=" << p;
+  });
 }
 
 TEST(GridSimulation, BlockRangesCoverEverySampleOnce) {

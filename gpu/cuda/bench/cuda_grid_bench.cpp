@@ -97,16 +97,17 @@ int main(int argc, char** argv) {
   const cuda::CudaDeviceInfo device = cuda::queryCudaDevice();
   std::printf("device: %s\n", device.summary().c_str());
   if (!device.available) return 1;
-  std::printf("CPU: %d TBB threads; CPU times are medians of 5 calls, GPU kernel times means of "
-              "%d launches after a warm-up\n\n",
-              tbb::info::default_concurrency(), options.repetitions);
-  std::printf("| model | p | pieces | samples | CPU plan ms | CPU eval ms | GPU upload ms | "
-              "GPU eval ms | GPU GB/s | CPU eval / GPU eval | equal |\n");
+  std::printf(
+      "CPU: %d TBB threads; CPU times are medians of 5 calls, GPU kernel times means of "
+      "%d launches after a warm-up\n\n",
+      tbb::info::default_concurrency(), options.repetitions);
+  std::printf(
+      "| model | p | pieces | samples | CPU plan ms | CPU eval ms | GPU upload ms | "
+      "GPU eval ms | GPU GB/s | CPU eval / GPU eval | equal |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   bool allEqual = true;
   for (const std::string& name : options.models) {
-    const PatchSet patches =
-        buildPatchSet(readObjFile(testing::modelsDir() + "/" + name + ".obj"));
+    const PatchSet patches = buildPatchSet(readObjFile(testing::modelsDir() + "/" + name + ".obj"));
     for (int p : options.levels) {
       UniformGrid grid;
       const double planMs = medianMs(5, [&] { planUniformGrid(patches, p, grid); });
