@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/adaptive_surface.h"
+#include "core/dyadic.h"
 #include "core/edge_curvature.h"
 #include "core/tolerance_model.h"
 
@@ -515,11 +516,7 @@ void Planner::planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::ve
 // Which of `sides` (bit k: side k of tile `square`) tile `part`, inside it, lies on.
 uint8_t sidesOnSquare(const Tile& part, const Tile& square, uint8_t sides) {
   const int d = part.level - square.level;
-  const uint64_t x = part.ix - (square.ix << d), y = part.iy - (square.iy << d), last = (uint64_t(1) << d) - 1;
-  const bool on[4] = {y == 0, x == last, y == last, x == 0};
-  uint8_t out = 0;
-  for (int k = 0; k < 4; ++k) out |= uint8_t((on[k] && (sides >> k & 1)) << k);
-  return out;
+  return sidesTouched(part.ix - (square.ix << d), part.iy - (square.iy << d), d) & sides;
 }
 
 }  // namespace

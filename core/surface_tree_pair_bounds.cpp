@@ -189,8 +189,7 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
 // by their bows; leaves above that with their nets (EV bottoms' stand-ins grown by r).
 void TreeBuilder::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const {
   const SurfaceNode& node = tree_.nodes[index];
-  const uint64_t last = (uint64_t(1) << depth) - 1;
-  const bool on[4] = {iy == 0, ix == last, iy == last, ix == 0};
+  const uint8_t on = sidesTouched(ix, iy, depth);
   if (!node.isLeaf() && depth < kFlatReach) {
     for (int q = 0; q < 4; ++q) {
       gatherFlat(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), gather);
@@ -201,7 +200,7 @@ void TreeBuilder::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy
     const std::array<Vec3d, 4>& c = corners_[index];
     for (int k = 0; k < 4; ++k) {
       gather.addPoint(c[k], node.pairBound);
-      if (!on[k]) continue;
+      if (!(on >> k & 1)) continue;
       gather.addSidePoint(k, c[k], node.sideBow[k]);
       gather.addSidePoint(k, c[(k + 1) % 4], node.sideBow[k]);
     }
@@ -209,7 +208,7 @@ void TreeBuilder::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy
   }
   double r;
   const BezierNet net = netOrStandIn(node, r);
-  gather.addNet(net, r, uint8_t(on[0] | on[1] << 1 | on[2] << 2 | on[3] << 3));
+  gather.addNet(net, r, on);
 }
 
 void TreeBuilder::flattenNodePair(uint32_t index) {

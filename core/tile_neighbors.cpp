@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <map>
 
+#include "core/dyadic.h"
+
 namespace tessera {
 
 namespace {
@@ -133,10 +135,9 @@ bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) cons
 }
 
 bool TileNeighbors::squareSideGetsPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side) const {
-  const uint64_t last = (uint64_t(1) << level) - 1;
   const bool alongU = side == 0 || side == 2;
   const int64_t a = corner(level, alongU ? ix : iy), b = corner(level, (alongU ? ix : iy) + 1);
-  const bool onBoundary = side == 0 ? iy == 0 : side == 1 ? ix == last : side == 2 ? iy == last : ix == 0;
+  const bool onBoundary = sidesTouched(ix, iy, level) >> side & 1;
   if (!onBoundary) {
     const uint64_t nx = side == 1 ? ix + 1 : side == 3 ? ix - 1 : ix;
     const uint64_t ny = side == 2 ? iy + 1 : side == 0 ? iy - 1 : iy;
