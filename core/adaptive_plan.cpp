@@ -10,6 +10,7 @@
 #include "core/adaptive_surface.h"
 #include "core/dyadic.h"
 #include "core/edge_curvature.h"
+#include "core/parallel_chunks.h"
 #include "core/tolerance_model.h"
 
 namespace tessera {
@@ -524,7 +525,7 @@ uint8_t sidesOnSquare(const Tile& part, const Tile& square, uint8_t sides) {
 void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles) {
   validateTessellationOptions(options);
   tiles.resize(tree.roots.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), 16), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), chunkFor(tree.roots.size(), 1, 16)), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
     const Planner planner(tree, patches, options);  // one per task: it keeps the current root's state
     for (size_t r = range.begin(); r != range.end(); ++r) {
@@ -543,7 +544,7 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
     roots.push_back({i, j});
     i = j;
   }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), 16), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), chunkFor(roots.size(), 1, 16)), [&](const auto& range) {
     const Planner planner(tree, patches, options);
     std::vector<Tile> replaced;
     for (size_t i = range.begin(); i != range.end(); ++i) {

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/face_triangles.h"
+#include "core/parallel_chunks.h"
 #include "core/tile_stitching.h"
 #include "core/tile_triangulation.h"
 
@@ -37,7 +38,7 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
   }
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, chunkFor(count, 64, 1024)), [&](const auto& range) {
     if (checkpoint) checkpoint();
     SurfaceEvaluator& evaluator = evaluators.local();
     for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -64,14 +65,14 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
 // this phase on bigguy at 1e-4 (3.3 of 8 ms on 2 cores) and kept it from scaling on 16.
 void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool record, TriangleMesh& mesh,
                       const std::function<void()>& checkpoint) {
-  constexpr size_t kRun = 256;
-  const size_t runs = (plan.tiles.size() + kRun - 1) / kRun;
+  const size_t run = chunkFor(plan.tiles.size(), 4, 256);
+  const size_t runs = (plan.tiles.size() + run - 1) / run;
   std::vector<std::vector<uint32_t>> indices(runs), tiles(runs);
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
-    const size_t end = std::min(plan.tiles.size(), (r + 1) * kRun);
-    for (size_t t = r * kRun; t < end; ++t) {
+    const size_t end = std::min(plan.tiles.size(), (r + 1) * run);
+    for (size_t t = r * run; t < end; ++t) {
       const size_t before = indices[r].size();
       triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, indices[r]);
       if (record) tiles[r].insert(tiles[r].end(), (indices[r].size() - before) / 3, uint32_t(t));
@@ -149,11 +150,11 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
 void splitFoldNormals(TriangleMesh& mesh) {
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
   // The corners 3t + k facing against their normal, found on all cores (in order per run).
-  constexpr size_t kRun = 4096;
+  const size_t run = chunkFor(mesh.triangleCount(), 256, 4096);
   const size_t triangles = mesh.triangleCount();
-  std::vector<std::vector<uint32_t>> found((triangles + kRun - 1) / kRun);
+  std::vector<std::vector<uint32_t>> found((triangles + run - 1) / run);
   tbb::parallel_for(size_t(0), found.size(), [&](size_t r) {
-    for (size_t t = r * kRun; t < std::min(triangles, (r + 1) * kRun); ++t) {
+    for (size_t t = r * run; t < std::min(triangles, (r + 1) * run); ++t) {
       const uint32_t* i = &mesh.indices[3 * t];
       if (!facesAway(vertices, i[0], i[1], i[2])) continue;
       const Vec3 n = cross(mesh.positions[i[1]] - mesh.positions[i[0]], mesh.positions[i[2]] - mesh.positions[i[0]]);
@@ -163,7 +164,7 @@ void splitFoldNormals(TriangleMesh& mesh) {
     }
   });
   std::vector<uint32_t> flagged;
-  for (const auto& run : found) flagged.insert(flagged.end(), run.begin(), run.end());
+  for (const auto& part : found) flagged.insert(flagged.end(), part.begin(), part.end());
   if (flagged.empty()) return;
   std::sort(flagged.begin(), flagged.end(), [&mesh](uint32_t a, uint32_t b) {
     return mesh.indices[a] < mesh.indices[b] || (mesh.indices[a] == mesh.indices[b] && a < b);

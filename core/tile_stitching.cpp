@@ -8,6 +8,7 @@
 
 #include "core/face_triangles.h"
 #include "core/line_points.h"
+#include "core/parallel_chunks.h"
 
 namespace tessera {
 
@@ -654,7 +655,7 @@ Stitching Stitcher::run() {
   innerSide_.assign(4 * tiles, {});
   boundarySide_.assign(4 * tiles, {});
   gridLocal_.resize(tiles);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots, 16), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots, chunkFor(roots, 1, 16)), [&](const auto& range) {
     if (checkpoint_) checkpoint_();
     Arena& a = arenas_.local();
     for (size_t r = range.begin(); r != range.end(); ++r) {
@@ -662,13 +663,14 @@ Stitching Stitcher::run() {
     }
   });
   records_.resize(lines_.lines.size());
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), 32), [&](const auto& range) {
+  const uint32_t lineChunk = uint32_t(chunkFor(lines_.lines.size(), 1, 32));
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), lineChunk), [&](const auto& range) {
     Arena& a = arenas_.local();
     for (uint32_t l = range.begin(); l != range.end(); ++l) resolveBoundaryLine(l, a);
   });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), 32), [&](const auto& range) {
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), lineChunk), [&](const auto& range) {
     Arena& a = arenas_.local();
     for (uint32_t l = range.begin(); l != range.end(); ++l) writeBoundaryLine(l, a);
   });
