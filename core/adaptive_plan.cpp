@@ -72,14 +72,19 @@ Rates ratesFor(const Curvature& m, double size, double epsilon, int minRate = 1)
   return best;
 }
 
-// The (1, 1) grid's bounds for an exact piece (SurfaceNode::pairBound and sideBow with r = 0).
-void exactPairBounds(const BezierNet& net, double& pair, double bows[4]) {
+// The (1, 1) grid's bounds for an exact piece (SurfaceNode::pairBound and sideBow with r = 0):
+// the pair, and what points on each side add (needed only where the pair is within ε).
+double exactPairBound(const BezierNet& net) {
   Vec3d corners[4];
   for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
   const Vec3d twist = corners[0] - corners[1] + corners[2] - corners[3];
+  return (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4) * (1 + 1e-9);
+}
+void exactSideBows(const BezierNet& net, double bows[4]) {
+  Vec3d corners[4];
+  for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
   const std::array<double, 4> chord = chordBows(net, corners);
   for (int side = 0; side < 4; ++side) bows[side] = chord[side] * (1 + 1e-9);
-  pair = (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4) * (1 + 1e-9);
 }
 
 // |f(½, ½) − L(½, ½)| for the bilinear L through the corners: the pair bound is at least this.
@@ -312,11 +317,13 @@ bool Planner::touchesPinchedCorner(const Candidate& c) const {
 }
 
 // Whether the (1, 1) grid's pair bound can be within ε, computing it below a leaf only when the
-// gap at the centre (a lower bound of it) leaves room.
+// gap at the centre (a lower bound of it) leaves room, and the side bows only when it is.
 bool Planner::pairMayServe(Candidate& c, double epsilon) const {
   if (!c.pairKnown) {
     if (centreGap(c.net) > epsilon) return false;
-    exactPairBounds(c.net, c.pair, c.bows);
+    c.pair = exactPairBound(c.net);
+    if (c.pair > epsilon) return false;
+    exactSideBows(c.net, c.bows);
     c.pairKnown = true;
   }
   return c.pair <= epsilon;
