@@ -34,11 +34,6 @@ void pieceParameters(const Orientation& o, double x, double y, double& s, double
   t = o.tu * x + o.tv * y + (o.tu + o.tv < 0 ? 1 : 0);
 }
 
-Vec3d unit(Vec3d n) {
-  const double l = length(n);
-  return l > 0 ? n * (1.0 / l) : Vec3d();
-}
-
 }  // namespace
 
 BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
@@ -100,13 +95,15 @@ SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, d
     offset = Vec3d(patches_.rings.centers[leaf.ring]);
   }
   p.position += offset;
-  Vec3d normal = unit(cross(p.dPds, p.dPdt)) * double(orientation.handedness());
-  if (length(normal) == 0) {
+  // The normal's length found once: it is both the unit scale and the degeneracy test.
+  const Vec3d n = cross(p.dPds, p.dPdt);
+  const double l = length(n);
+  if (!(l > 0)) {
     // A degenerate corner (the derivatives vanish): the normal a step inside.
     const double nx = x + (x < 0.5 ? 1e-6 : -1e-6), ny = y + (y < 0.5 ? 1e-6 : -1e-6);
-    normal = evaluateLeaf(leaf, nx, ny).normal;
+    return {p.position, evaluateLeaf(leaf, nx, ny).normal};
   }
-  return {p.position, normal};
+  return {p.position, n * (1.0 / l) * double(orientation.handedness())};
 }
 
 SurfaceSample SurfaceEvaluator::evaluate(NodeSquare at, double u, double v) {
