@@ -86,6 +86,32 @@ void resolveStretch(const LineUse* uses, const uint32_t* members, size_t count, 
   out.points.insert(out.points.end(), points.begin() + (shared ? 1 : 0), points.end());
 }
 
+// Whether every use is the same side span with the same cells: most lines inside a root, two
+// tiles of one size and rate facing each other.
+bool alike(const LineUse* uses, size_t count) {
+  if (count == 0) return false;
+  for (size_t i = 1; i < count; ++i) {
+    if (uses[i].a != uses[0].a || uses[i].sign != uses[0].sign || uses[i].cells != uses[0].cells ||
+        uses[i].exp != uses[0].exp) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// resolveLine for alike uses, what its general rule comes to there: the denominator is the cells
+// times 2^exp, every cell 1, and the points are the shared side's own.
+void resolveAlike(const LineUse* uses, size_t count, LinePoints& out) {
+  const LineUse& use = uses[0];
+  out.denominator = Int(use.cells) << use.exp;
+  const Int p0 = use.a, p1 = use.a + use.sign * use.cells;
+  out.lo.assign(count, std::min(p0, p1));
+  out.hi.assign(count, std::max(p0, p1));
+  out.cell.assign(count, 1);
+  out.points.clear();
+  for (int k = 0; k <= use.cells; ++k) out.points.push_back(out.lo[0] + k);
+}
+
 }  // namespace
 
 // A line's points, in units of 1/denominator (the least common multiple of its sides' cells).
@@ -93,6 +119,7 @@ void resolveStretch(const LineUse* uses, const uint32_t* members, size_t count, 
 // only on the uses over that span, so each stretch is resolved on its own (resolveStretch): the
 // two pairs of sides on the line between four tiles are two common seams.
 void resolveLine(const LineUse* uses, size_t count, LinePoints& out) {
+  if (alike(uses, count)) return resolveAlike(uses, count, out);
   Int rates = 1;
   int exp = 0;
   for (size_t i = 0; i < count; ++i) {
