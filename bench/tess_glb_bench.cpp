@@ -10,6 +10,14 @@
 //       PreparePatchPoints, Tessellation at a uniform rate, GetCoords, Evaluate with derivatives
 //       for the normals, GetFacets), into buffers allocated and touched in setup. Faces keep
 //       their own copies of edge points (no watertight assembly), which only favours Bfr.
+//   BM_TessGlb_Paired/<model>/<eps>          the two above alternated in blocks (each side
+//       called again for at least 25 ms, then the other), so that both see the same state of
+//       the machine: on a shared VM whose speed drifts by up to 2x over minutes, the separate
+//       benchmarks' medians (taken seconds apart) move against each other, while the median of
+//       per-block ratios stays put. Blocks keep each side's caches as warm as in its own
+//       benchmark (one call of each in turn made Tessera ~30 % slower on the torus at 1e-3, its
+//       patch set evicted by Bfr's run). Counters: tessera_ms, bfr_ms (medians of the blocks'
+//       means) and time_ratio (the median of the blocks' Tessera / Bfr).
 //
 // bench/adaptive_table.py turns the JSON into bench/ADAPTIVE-RESULTS.md (ratios per case and
 // summed); that file has the commands.
@@ -21,6 +29,8 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -241,6 +251,52 @@ void osdBfrOracle(benchmark::State& state, const std::string& name, double eps) 
   state.counters["measured_over_eps"] = oracle.measured / eps;
 }
 
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const size_t n = values.size();
+  return n == 0 ? 0 : n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Calls `call` again until at least `least` ms have passed; the mean time of one call.
+template <typename Call>
+double blockMean(double least, Call call) {
+  const auto start = std::chrono::steady_clock::now();
+  int calls = 0;
+  do {
+    call();
+    ++calls;
+  } while (millisecondsSince(start) < least);
+  return millisecondsSince(start) / calls;
+}
+
+void pairedGlb(benchmark::State& state, const std::string& name, double eps) {
+  constexpr double kBlockMs = 25;
+  const OracleRate oracle = oracleRate(name, eps);
+  if (oracle.rate <= 0) return state.SkipWithError("no oracle rate in bench/oracle_rates.csv");
+  const Model& m = model(name);
+  const TessellationOptions options = optionsAt(eps);
+  BfrOracle bfr(m, oracle.rate);
+  std::vector<double> tessera, osd, ratio;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    tessera.push_back(blockMean(kBlockMs, [&] {
+      TessellationResult result = tessellate(m.patches, m.mesh, options);
+      std::vector<uint8_t> glb = writeGlb(result.mesh, {.description = {.sourceName = name}});
+      benchmark::DoNotOptimize(glb.data());
+    }));
+    osd.push_back(blockMean(kBlockMs, [&] { bfr.run(); }));
+    ratio.push_back(tessera.back() / osd.back());
+    state.SetIterationTime(millisecondsSince(start) * 1e-3);
+  }
+  state.counters["tessera_ms"] = median(tessera);
+  state.counters["bfr_ms"] = median(osd);
+  state.counters["time_ratio"] = median(ratio);
+}
+
 const bool registered = [] {
   for (const char* name : kModels) {
     for (double eps : kTolerances) {
@@ -253,6 +309,9 @@ const bool registered = [] {
                                    name, eps)
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
+      benchmark::RegisterBenchmark((std::string("BM_TessGlb_Paired/") + suffix).c_str(), pairedGlb, name, eps)
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime();
     }
   }
   return true;
