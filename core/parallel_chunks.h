@@ -10,6 +10,8 @@
 namespace tessera {
 
 // The chunk size for a loop over n items: n / 64, within [least, most].
-inline size_t chunkFor(size_t n, size_t least, size_t most) { return std::clamp<size_t>(n / 64, least, most); }
+inline size_t chunkFor(size_t n, size_t least, size_t most) {
+  return std::clamp<size_t>(n / 64, least, most);
+}
 
 }  // namespace tessera

@@ -47,6 +47,19 @@ class SampledFamily final : public MetricFamily {
   std::function<double()> read_;
 };
 
+class InfoFamily final : public MetricFamily {
+ public:
+  InfoFamily(std::string name, std::string help, std::vector<std::string> labelNames, LabelValues values)
+      : MetricFamily(std::move(name), std::move(help), std::move(labelNames)), values_(std::move(values)) {}
+  void render(std::string& out) const override {
+    header(out, "gauge");
+    out += series(name_, values_) + " 1\n";
+  }
+
+ private:
+  const LabelValues values_;
+};
+
 }  // namespace
 
 void MetricFamily::header(std::string& out, const char* type) const {
@@ -140,6 +153,13 @@ void MetricsRegistry::sampled(std::string name, std::string help, const char* ty
   std::lock_guard lock(mutex_);
   families_.push_back(
       std::make_unique<SampledFamily>(std::move(name), std::move(help), type, std::move(read)));
+}
+
+void MetricsRegistry::info(std::string name, std::string help, std::vector<std::string> labelNames,
+                           LabelValues labelValues) {
+  std::lock_guard lock(mutex_);
+  families_.push_back(std::make_unique<InfoFamily>(std::move(name), std::move(help), std::move(labelNames),
+                                                   std::move(labelValues)));
 }
 
 std::string MetricsRegistry::render() const {

@@ -69,6 +69,9 @@ class MetricsRegistry {
   // A value sampled at scrape time: "gauge" for levels, "counter" for totals kept elsewhere.
   void sampled(std::string name, std::string help, const char* type,
                std::function<double()> read);
+  // A gauge that is always 1 and carries facts in its labels (Prometheus' *_info convention).
+  void info(std::string name, std::string help, std::vector<std::string> labelNames,
+            LabelValues labelValues);
 
   std::string render() const;
 

@@ -28,6 +28,7 @@
 #include "server/tessellation_service.h"
 #include "server/cpu_engine.h"
 #include "server/patch_set_cache.h"
+#include "server/process_metrics.h"
 #include "server/test_engines.h"
 #include "server/tls_key_pair.h"
 
@@ -255,6 +256,7 @@ int runServer(const ServerConfig& config) {
       makeRenderBackend(patches, /*probeDevice=*/true);
   BearerAuth auth(config.token);
   registerSampledMetrics(registry, repository, patches, admission, streams);
+  registerProcessMetrics(registry);
 
   MeshServiceImpl meshService(repository, admission, streams, auth, config.upload, metrics);
   TessellationServiceImpl tessellationService(repository, admission, streams, *engine, auth,

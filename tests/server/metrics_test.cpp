@@ -7,9 +7,13 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <regex>
 #include <thread>
 
+#include "core/version.h"
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
 
@@ -111,6 +115,62 @@ TEST(Metrics, SlowClientsDoNotHoldUpAScrape) {
     EXPECT_EQ(recv(fd, &byte, 1, 0), 0);
     close(fd);
   }
+}
+
+// A "Key:   value kB"-style field of /proc/PID/status or a row of /proc/PID/limits, read by the
+// test itself: the kernel's own accounting, beside the server's reading of /proc/self/stat.
+double procField(pid_t pid, const std::string& file, const std::string& key, int column) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/" + file);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(key, 0) != 0) continue;
+    std::istringstream fields(line.substr(key.size()));
+    std::string value;
+    for (int c = 0; c <= column; ++c) fields >> value;
+    return std::stod(value);
+  }
+  return -1;
+}
+
+// What every Prometheus client exports about its process, and the build, against what the
+// kernel says of the server's process (read here from /proc/PID) and what the test was built with.
+TEST(Metrics, ExportProcessMetricsAndBuildInfo) {
+  TempDir dir;
+  const double startedAfter =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count() - 2;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  const std::string page = httpGet(server->metricsAddress(), "/metrics");
+  const pid_t pid = server->pid();
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+
+  const std::regex info(R"re(\ntessera_build_info\{version="([^"]*)",grpc="([^"]*)",compiler="[^"]+"\} 1\n)re");
+  std::smatch found;
+  ASSERT_TRUE(std::regex_search(page, found, info)) << page;
+  EXPECT_EQ(found[1], kVersion);
+  EXPECT_EQ(found[2], grpc::Version());
+
+  const double resident = seriesValue(page, "process_resident_memory_bytes");
+  const double kernelResident = procField(pid, "status", "VmRSS:", 0) * 1024;
+  EXPECT_GT(resident, 1 << 20);
+  EXPECT_NEAR(resident, kernelResident, 0.25 * kernelResident);
+  const double virtualBytes = seriesValue(page, "process_virtual_memory_bytes");
+  const double kernelVirtual = procField(pid, "status", "VmSize:", 0) * 1024;
+  EXPECT_NEAR(virtualBytes, kernelVirtual, 0.25 * kernelVirtual);
+  EXPECT_GE(virtualBytes, resident);
+
+  const double start = seriesValue(page, "process_start_time_seconds");
+  EXPECT_GE(start, startedAfter);
+  EXPECT_LE(start, now + 1);
+  const double cpu = seriesValue(page, "process_cpu_seconds_total");
+  EXPECT_GE(cpu, 0);
+  EXPECT_LE(cpu, (now - startedAfter) * std::thread::hardware_concurrency());
+
+  size_t kernelFds = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd")) {
+    ++kernelFds;
+  }
+  EXPECT_NEAR(seriesValue(page, "process_open_fds"), double(kernelFds), 4);
+  EXPECT_EQ(seriesValue(page, "process_max_fds"), procField(pid, "limits", "Max open files", 0));
 }
 
 TEST(Metrics, OtherPathsAreNotFound) {
