@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "server/log_format.h"
 #include "server/mesh_store.h"
 #include "server/server_app.h"
 #include "server/server_config.h"
@@ -23,7 +24,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   spdlog::set_level(spdlog::level::from_str(config.logLevel));
-  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%eZ %l %v", spdlog::pattern_time_type::utc);
+  tessera::server::useLogFormat(tessera::server::logFormatNamed(config.logFormat));
   try {
     return tessera::server::runServer(config);
   } catch (const std::exception& e) {

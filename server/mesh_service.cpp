@@ -60,6 +60,8 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     cancel.throwIfCancelled();
     MeshMetadata stored = repository_.create(std::move(assembled.mesh), std::move(assembled.metadata));
     toProto(stored, response);
+    metrics_.notes.note(context, "mesh", stored.id);
+    metrics_.notes.note(context, "bytes", std::to_string(upload.receivedBytes()));
   });
 }
 

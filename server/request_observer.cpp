@@ -64,8 +64,8 @@ std::string methodLabel(const char* method) {
 
 class RequestObserver final : public grpc::experimental::Interceptor {
  public:
-  RequestObserver(grpc::experimental::ServerRpcInfo* info, ServerMetrics& metrics)
-      : info_(info), metrics_(metrics), start_(std::chrono::steady_clock::now()) {}
+  RequestObserver(grpc::experimental::ServerRpcInfo* info, ServerMetrics& metrics, LogFormat format)
+      : info_(info), metrics_(metrics), format_(format), start_(std::chrono::steady_clock::now()) {}
 
   ~RequestObserver() override {
     if (!finished_) finish();
@@ -127,13 +127,22 @@ class RequestObserver final : public grpc::experimental::Interceptor {
                  : code == grpc::StatusCode::INTERNAL || code == grpc::StatusCode::DATA_LOSS
                      ? spdlog::level::err
                      : spdlog::level::info;
-    spdlog::log(level, "request_id={} method={} status={} duration_ms={:.2f} peer={}{}",
-                requestId(), method, codeName, seconds * 1e3, peer_,
-                message_.empty() ? "" : fmt::format(" message={:?}", message_));
+    std::vector<LogField> fields = {{"request_id", requestId()},
+                                    {"method", method},
+                                    {"status", codeName},
+                                    {"duration_ms", fmt::format("{:.2f}", seconds * 1e3), LogField::Kind::kNumber},
+                                    {"peer", peer_}};
+    if (!message_.empty()) fields.push_back({"message", message_, LogField::Kind::kQuoted});
+    for (auto& [key, value] : metrics_.notes.take(info_->server_context())) {
+      const bool number = !value.empty() && value.find_first_not_of("0123456789") == std::string::npos;
+      fields.push_back({key, value, number ? LogField::Kind::kNumber : LogField::Kind::kText});
+    }
+    spdlog::log(level, "{}", structuredPayload(format_, fields));
   }
 
   grpc::experimental::ServerRpcInfo* info_;
   ServerMetrics& metrics_;
+  const LogFormat format_;
   std::chrono::steady_clock::time_point start_;
   std::string requestId_;
   std::string peer_ = "unknown";
@@ -146,7 +155,7 @@ class RequestObserver final : public grpc::experimental::Interceptor {
 
 grpc::experimental::Interceptor* RequestObserverFactory::CreateServerInterceptor(
     grpc::experimental::ServerRpcInfo* info) {
-  return new RequestObserver(info, metrics_);
+  return new RequestObserver(info, metrics_, format_);
 }
 
 }  // namespace tessera::server

@@ -7,6 +7,7 @@
 #include <grpcpp/server_context.h>
 #include <grpcpp/support/server_interceptor.h>
 
+#include "server/log_format.h"
 #include "server/server_metrics.h"
 
 namespace tessera::server {
@@ -14,12 +15,13 @@ namespace tessera::server {
 class RequestObserverFactory final
     : public grpc::experimental::ServerInterceptorFactoryInterface {
  public:
-  explicit RequestObserverFactory(ServerMetrics& metrics) : metrics_(metrics) {}
+  RequestObserverFactory(ServerMetrics& metrics, LogFormat format) : metrics_(metrics), format_(format) {}
   grpc::experimental::Interceptor* CreateServerInterceptor(
       grpc::experimental::ServerRpcInfo* info) override;
 
  private:
   ServerMetrics& metrics_;
+  const LogFormat format_;
 };
 
 }  // namespace tessera::server

@@ -17,6 +17,7 @@
 
 #include "core/version.h"
 
+#include "server/log_format.h"
 #include "server/mesh_service.h"
 #include "server/metrics_http_server.h"
 #include "server/render_backend.h"
@@ -187,7 +188,7 @@ std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
   quota.SetMaxThreads(kMaxServerThreads);
   builder.SetResourceQuota(quota);
   std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> observers;
-  observers.push_back(std::make_unique<RequestObserverFactory>(metrics));
+  observers.push_back(std::make_unique<RequestObserverFactory>(metrics, logFormatNamed(config.logFormat)));
   builder.experimental().SetInterceptorCreators(std::move(observers));
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || *port == 0) return nullptr;

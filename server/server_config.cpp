@@ -141,6 +141,11 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->capture_default_str()
               ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"})),
           "TESSERA_LOG_LEVEL");
+  withEnv(app.add_option("--log-format", c.logFormat,
+                         "text (time level key=value) or json (one object a line)")
+              ->capture_default_str()
+              ->check(CLI::IsMember({"text", "json"})),
+          "TESSERA_LOG_FORMAT");
   withEnv(app.add_flag("--reflection,!--no-reflection", c.reflection,
                        "Serve gRPC server reflection (off whenever a token is set)"),
           "TESSERA_REFLECTION");

@@ -25,6 +25,7 @@ struct ServerConfig {
   std::string metricsListen = "127.0.0.1:9464";  // "off" disables
   std::string readyFile;
   std::string logLevel = "info";
+  std::string logFormat = "text";  // or "json" (log_format.h)
   bool reflection = true;
   int64_t cacheBytes = 512LL << 20;       // decoded meshes
   int64_t patchCacheBytes = 512LL << 20;  // preprocessed patch sets, shared by all engines

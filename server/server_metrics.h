@@ -3,6 +3,7 @@
 // sampled values where those objects are built (server_app.cpp).
 #pragma once
 
+#include "server/call_notes.h"
 #include "server/metrics.h"
 
 namespace tessera::server {
@@ -15,6 +16,8 @@ struct ServerMetrics {
   CounterFamily& uploadBytes;      // data bytes received in uploads
   CounterFamily& trianglesProduced;
   CounterFamily& glbBytesSent;
+  // Not a metric: what handlers add to their call's log line (mesh, triangles, bytes).
+  CallNotes notes;
 };
 
 }  // namespace tessera::server

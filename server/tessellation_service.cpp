@@ -126,6 +126,9 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
     sendSummary(*writer, output, job);
     metrics_.trianglesProduced.add({}, static_cast<double>(output.summary.triangles));
     metrics_.glbBytesSent.add({}, static_cast<double>(output.glb.size()));
+    metrics_.notes.note(context, "mesh", id);
+    metrics_.notes.note(context, "triangles", std::to_string(output.summary.triangles));
+    metrics_.notes.note(context, "bytes", std::to_string(output.glb.size()));
   });
 }
 

@@ -359,6 +359,34 @@ double seriesValue(const std::string& page, const std::string& series) {
   return std::stod(page.substr(at + series.size() + 2));
 }
 
+Streamed tessellateOverGrpc(v1::TessellationService::Stub& stub,
+                            const v1::TessellateRequest& request) {
+  Streamed result;
+  grpc::ClientContext context;
+  prepare(context, {}, 120);
+  auto reader = stub.Tessellate(&context, request);
+  v1::TessellateResponse message;
+  while (reader->Read(&message)) {
+    if (message.has_glb_chunk()) {
+      if (message.glb_chunk().offset() != int64_t(result.glb.size())) {
+        result.problem = "a chunk out of order";
+      }
+      result.glb += message.glb_chunk().data();
+    } else if (message.has_summary()) {
+      result.summary = message.summary();
+    }
+  }
+  result.status = reader->Finish();
+  if (!result.summary) {
+    result.problem = "no summary";
+  } else if (result.summary->glb_size() != int64_t(result.glb.size())) {
+    result.problem = "the GLB's size differs from the summary's";
+  } else if (result.summary->glb_sha256() != sha256Hex(result.glb)) {
+    result.problem = "the GLB's SHA-256 differs from the summary's";
+  }
+  return result;
+}
+
 std::string httpGet(const std::string& address, const std::string& path) {
   size_t colon = address.rfind(':');
   addrinfo hints{};

@@ -127,4 +127,14 @@ std::string httpGet(const std::string& address, const std::string& path);
 // The value of one series (its name and labels exactly as exposed) in a /metrics page, or -1.
 double seriesValue(const std::string& page, const std::string& series);
 
+// A Tessellate stream reassembled; problem says why it is unusable, if it is (chunks out of
+// order, no summary, a GLB whose size or SHA-256 differs from the summary's).
+struct Streamed {
+  grpc::Status status;
+  std::string glb;
+  std::optional<v1::TessellationSummary> summary;
+  std::string problem;
+};
+Streamed tessellateOverGrpc(v1::TessellationService::Stub& stub, const v1::TessellateRequest& request);
+
 }  // namespace tessera::test

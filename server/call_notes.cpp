@@ -1,0 +1,19 @@
+#include "server/call_notes.h"
+
+namespace tessera::server {
+
+void CallNotes::note(const grpc::ServerContextBase* call, std::string key, std::string value) {
+  std::lock_guard lock(mutex_);
+  notes_[call].emplace_back(std::move(key), std::move(value));
+}
+
+CallNotes::Notes CallNotes::take(const grpc::ServerContextBase* call) {
+  std::lock_guard lock(mutex_);
+  const auto found = notes_.find(call);
+  if (found == notes_.end()) return {};
+  Notes notes = std::move(found->second);
+  notes_.erase(found);
+  return notes;
+}
+
+}  // namespace tessera::server
