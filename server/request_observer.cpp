@@ -92,6 +92,7 @@ class RequestObserver final : public grpc::experimental::Interceptor {
       }
       code_ = status.error_code();
       message_ = status.error_message();
+      abandonedByClient();
       // Counted before the status leaves, so that a client that has its answer can already
       // see it in the metrics (the interceptor itself may live on a little after the call).
       finish();
@@ -105,6 +106,16 @@ class RequestObserver final : public grpc::experimental::Interceptor {
     if (it == metadata.end()) return;
     std::string_view id(it->second.data(), it->second.size());
     if (isSaneRequestId(id)) requestId_ = std::string(id);
+  }
+
+  // A call the client gave up on (its deadline passed, or it cancelled) never delivers the
+  // status its handler sends (the default health service's Watch sends UNKNOWN): counted as
+  // what the client saw. A handler that finished its work with OK all the same stays OK.
+  void abandonedByClient() {
+    const grpc::ServerContextBase* context = info_->server_context();
+    if (context == nullptr || !context->IsCancelled() || code_ == grpc::StatusCode::OK) return;
+    const bool late = context->deadline() <= std::chrono::system_clock::now();
+    code_ = late ? grpc::StatusCode::DEADLINE_EXCEEDED : grpc::StatusCode::CANCELLED;
   }
 
   const std::string& requestId() {

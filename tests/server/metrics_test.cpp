@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/version.h"
+#include "grpc/health/v1/health.grpc.pb.h"
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
 
@@ -171,6 +172,45 @@ TEST(Metrics, ExportProcessMetricsAndBuildInfo) {
   }
   EXPECT_NEAR(seriesValue(page, "process_open_fds"), double(kernelFds), 4);
   EXPECT_EQ(seriesValue(page, "process_max_fds"), procField(pid, "limits", "Max open files", 0));
+}
+
+// A client that gives up on a call (its deadline passes, or it cancels) is counted under the code
+// the client saw, not UNKNOWN: here a Health/Watch stream that the server keeps open.
+TEST(Metrics, CallsTheClientAbandonsAreCountedByWhatItSaw) {
+  TempDir dir;
+  auto server = ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
+  ASSERT_TRUE(server);
+  auto stub = grpc::health::v1::Health::NewStub(server->channel());
+  grpc::health::v1::HealthCheckRequest request;
+  {
+    grpc::ClientContext context;
+    context.set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(300));
+    auto watch = stub->Watch(&context, request);
+    grpc::health::v1::HealthCheckResponse response;
+    while (watch->Read(&response)) {
+    }
+    ASSERT_EQ(watch->Finish().error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+  }
+  {
+    grpc::ClientContext context;
+    auto watch = stub->Watch(&context, request);
+    grpc::health::v1::HealthCheckResponse response;
+    ASSERT_TRUE(watch->Read(&response));
+    context.TryCancel();
+    while (watch->Read(&response)) {
+    }
+    ASSERT_EQ(watch->Finish().error_code(), grpc::StatusCode::CANCELLED);
+  }
+  const std::string method = "tessera_requests_total{method=\"/grpc.health.v1.Health/Watch\",code=";
+  std::string page;
+  for (int attempt = 0; attempt < 50; ++attempt) {  // the server learns of the ends a little later
+    page = httpGet(server->metricsAddress(), "/metrics");
+    if (seriesValue(page, method + "\"DEADLINE_EXCEEDED\"}") + seriesValue(page, method + "\"CANCELLED\"}") >= 2) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_EQ(seriesValue(page, method + "\"UNKNOWN\"}"), -1) << page;
+  EXPECT_EQ(seriesValue(page, method + "\"DEADLINE_EXCEEDED\"}") + seriesValue(page, method + "\"CANCELLED\"}"), 2)
+      << page;
 }
 
 TEST(Metrics, OtherPathsAreNotFound) {
