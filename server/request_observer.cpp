@@ -43,7 +43,8 @@ std::string newRequestId() {
 const std::unordered_set<std::string>& servedMethods() {
   static const std::unordered_set<std::string> methods = [] {
     std::unordered_set<std::string> names = {"/grpc.health.v1.Health/Check", "/grpc.health.v1.Health/Watch",
-                                             "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo"};
+                                             "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+                                             "/grpc.reflection.v1.ServerReflection/ServerReflectionInfo"};
     for (const char* service : {"MeshService", "TessellationService", "RenderService", "ServerInfoService"}) {
       const auto* descriptor =
           google::protobuf::DescriptorPool::generated_pool()->FindServiceByName(std::string("tessera.v1.") + service);

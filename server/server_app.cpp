@@ -21,6 +21,7 @@
 #include "server/mesh_service.h"
 #include "server/metrics_http_server.h"
 #include "server/render_backend.h"
+#include "server/reflection_v1.h"
 #include "server/render_service.h"
 #include "server/request_observer.h"
 #include "server/server_info_service.h"
@@ -173,17 +174,19 @@ struct NamedService {
   const char* name;
 };
 
+// `reflectionV1`: served with gRPC's own v1alpha reflection; null when reflection is off.
 std::unique_ptr<grpc::Server> startGrpcServer(const ServerConfig& config,
                                               const std::vector<NamedService>& services,
-                                              bool reflection, ServerMetrics& metrics, int* port) {
+                                              ReflectionV1* reflectionV1, ServerMetrics& metrics, int* port) {
   grpc::EnableDefaultHealthCheckService(true);
   // Linking gRPC's reflection library registers its plugin for every builder at load time, so
   // "off" must take the plugin out again.
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  if (!reflection) builder.SetOption(std::make_unique<WithoutReflection>());
+  if (reflectionV1 == nullptr) builder.SetOption(std::make_unique<WithoutReflection>());
   builder.AddListeningPort(config.listen, serverCredentials(config), port);
   for (const NamedService& named : services) builder.RegisterService(named.service);
+  if (reflectionV1 != nullptr) builder.RegisterService(reflectionV1);
   grpc::ResourceQuota quota("tessera-server");
   quota.SetMaxThreads(kMaxServerThreads);
   builder.SetResourceQuota(quota);
@@ -269,14 +272,18 @@ int runServer(const ServerConfig& config) {
 
   // Reflection cannot be put behind the bearer token, so a server with a token does not offer it.
   bool reflection = config.reflection && config.token.empty();
+  const std::vector<NamedService> services = {
+      {&meshService, tessera::v1::MeshService::service_full_name()},
+      {&tessellationService, tessera::v1::TessellationService::service_full_name()},
+      {&renderService, tessera::v1::RenderService::service_full_name()},
+      {&infoService, tessera::v1::ServerInfoService::service_full_name()}};
+  std::vector<std::string> serviceNames = {"grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
+                                           "grpc.reflection.v1alpha.ServerReflection"};
+  for (const NamedService& named : services) serviceNames.push_back(named.name);
+  ReflectionV1 reflectionV1(std::move(serviceNames));
   int port = 0;
-  std::unique_ptr<grpc::Server> server = startGrpcServer(
-      config,
-      {{&meshService, tessera::v1::MeshService::service_full_name()},
-       {&tessellationService, tessera::v1::TessellationService::service_full_name()},
-       {&renderService, tessera::v1::RenderService::service_full_name()},
-       {&infoService, tessera::v1::ServerInfoService::service_full_name()}},
-      reflection, metrics, &port);
+  std::unique_ptr<grpc::Server> server =
+      startGrpcServer(config, services, reflection ? &reflectionV1 : nullptr, metrics, &port);
   if (!server) {
     spdlog::critical("cannot listen on {}", config.listen);
     return 1;
