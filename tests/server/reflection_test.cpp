@@ -17,6 +17,24 @@ namespace reflection = grpc::reflection::v1;
 using Stream = grpc::ClientReaderWriter<reflection::ServerReflectionRequest,
                                         reflection::ServerReflectionResponse>;
 
+// One ServerReflectionInfo stream to `server`.
+struct ReflectionCall {
+  explicit ReflectionCall(const ServerProcess& server)
+      : stub(reflection::ServerReflection::NewStub(server.channel())) {
+    prepare(context);
+    stream = stub->ServerReflectionInfo(&context);
+  }
+  std::unique_ptr<reflection::ServerReflection::Stub> stub;
+  grpc::ClientContext context;
+  std::unique_ptr<Stream> stream;
+};
+
+reflection::ServerReflectionRequest listServices() {
+  reflection::ServerReflectionRequest list;
+  list.set_list_services("");
+  return list;
+}
+
 reflection::ServerReflectionResponse ask(Stream& stream,
                                          const reflection::ServerReflectionRequest& request) {
   reflection::ServerReflectionResponse response;
@@ -30,14 +48,9 @@ TEST(Reflection, V1ListsTheServicesAndServesFilesWithTheirDependencies) {
   auto server =
       ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string()});
   ASSERT_TRUE(server);
-  auto stub = reflection::ServerReflection::NewStub(server->channel());
-  grpc::ClientContext context;
-  prepare(context);
-  auto stream = stub->ServerReflectionInfo(&context);
-
-  reflection::ServerReflectionRequest list;
-  list.set_list_services("");
-  const reflection::ServerReflectionResponse listed = ask(*stream, list);
+  ReflectionCall call(*server);
+  Stream* stream = call.stream.get();
+  const reflection::ServerReflectionResponse listed = ask(*stream, listServices());
   std::set<std::string> names;
   for (const auto& service : listed.list_services_response().service())
     names.insert(service.name());
@@ -89,13 +102,9 @@ TEST(Reflection, V1IsOffWithAToken) {
       ServerProcess::start(dir.path(), {"--store", "sqlite:" + (dir.path() / "m.db").string(),
                                         "--token", "secret-token-of-32-characters!!"});
   ASSERT_TRUE(server);
-  auto stub = reflection::ServerReflection::NewStub(server->channel());
-  grpc::ClientContext context;
-  prepare(context);
-  auto stream = stub->ServerReflectionInfo(&context);
-  reflection::ServerReflectionRequest list;
-  list.set_list_services("");
-  stream->Write(list);
+  ReflectionCall call(*server);
+  Stream* stream = call.stream.get();
+  stream->Write(listServices());
   stream->WritesDone();
   reflection::ServerReflectionResponse response;
   EXPECT_FALSE(stream->Read(&response));
