@@ -2,9 +2,14 @@
 
 namespace tessera::server {
 
-void CallNotes::note(const grpc::ServerContextBase* call, std::string key, std::string value) {
+void CallNotes::note(const grpc::ServerContextBase* call, std::string key, std::string text) {
   std::lock_guard lock(mutex_);
-  notes_[call].emplace_back(std::move(key), std::move(value));
+  notes_[call].push_back({std::move(key), std::move(text)});
+}
+
+void CallNotes::note(const grpc::ServerContextBase* call, std::string key, int64_t number) {
+  std::lock_guard lock(mutex_);
+  notes_[call].push_back({std::move(key), std::to_string(number), LogField::Kind::kNumber});
 }
 
 CallNotes::Notes CallNotes::take(const grpc::ServerContextBase* call) {

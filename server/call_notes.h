@@ -6,18 +6,21 @@
 
 #include <grpcpp/server_context.h>
 
+#include <cstdint>
 #include <map>
 #include <mutex>
 #include <string>
-#include <utility>
 #include <vector>
+
+#include "server/log_format.h"
 
 namespace tessera::server {
 
 class CallNotes {
  public:
-  using Notes = std::vector<std::pair<std::string, std::string>>;
-  void note(const grpc::ServerContextBase* call, std::string key, std::string value);
+  using Notes = std::vector<LogField>;
+  void note(const grpc::ServerContextBase* call, std::string key, std::string text);
+  void note(const grpc::ServerContextBase* call, std::string key, int64_t number);
   Notes take(const grpc::ServerContextBase* call);
 
  private:

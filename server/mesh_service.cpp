@@ -61,7 +61,7 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     MeshMetadata stored = repository_.create(std::move(assembled.mesh), std::move(assembled.metadata));
     toProto(stored, response);
     metrics_.notes.note(context, "mesh", stored.id);
-    metrics_.notes.note(context, "bytes", std::to_string(upload.receivedBytes()));
+    metrics_.notes.note(context, "bytes", int64_t(upload.receivedBytes()));
   });
 }
 

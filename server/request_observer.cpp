@@ -145,10 +145,7 @@ class RequestObserver final : public grpc::experimental::Interceptor {
                                     {"duration_ms", fmt::format("{:.2f}", seconds * 1e3), LogField::Kind::kNumber},
                                     {"peer", peer_}};
     if (!message_.empty()) fields.push_back({"message", message_, LogField::Kind::kQuoted});
-    for (auto& [key, value] : metrics_.notes.take(info_->server_context())) {
-      const bool number = !value.empty() && value.find_first_not_of("0123456789") == std::string::npos;
-      fields.push_back({key, value, number ? LogField::Kind::kNumber : LogField::Kind::kText});
-    }
+    for (LogField& note : metrics_.notes.take(info_->server_context())) fields.push_back(std::move(note));
     spdlog::log(level, "{}", structuredPayload(format_, fields));
   }
 

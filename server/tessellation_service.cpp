@@ -127,8 +127,8 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
     metrics_.trianglesProduced.add({}, static_cast<double>(output.summary.triangles));
     metrics_.glbBytesSent.add({}, static_cast<double>(output.glb.size()));
     metrics_.notes.note(context, "mesh", id);
-    metrics_.notes.note(context, "triangles", std::to_string(output.summary.triangles));
-    metrics_.notes.note(context, "bytes", std::to_string(output.glb.size()));
+    metrics_.notes.note(context, "triangles", int64_t(output.summary.triangles));
+    metrics_.notes.note(context, "bytes", int64_t(output.glb.size()));
   });
 }
 
