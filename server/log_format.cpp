@@ -27,8 +27,12 @@ class JsonLineFormatter final : public spdlog::formatter {
     const auto level = spdlog::level::to_string_view(message.level);
     line["level"] = std::string(level.data(), level.size());
     const std::string payload(message.payload.data(), message.payload.size());
-    nlohmann::ordered_json fields = nlohmann::ordered_json::parse(payload, nullptr, false);
-    if (!payload.empty() && payload.front() == '{' && fields.is_object()) {
+    // Only a structured line (structuredPayload) is an object; plain messages are not parsed.
+    const nlohmann::ordered_json fields =
+        !payload.empty() && payload.front() == '{'
+            ? nlohmann::ordered_json::parse(payload, nullptr, false)
+            : nlohmann::ordered_json();
+    if (fields.is_object()) {
       for (const auto& [key, value] : fields.items()) line[key] = value;
     } else {
       line["message"] = payload;

@@ -32,10 +32,12 @@ std::vector<std::string> statFields() {
 }
 
 // Field n of proc(5)'s numbering (1-based: utime is 14, starttime 22, vsize 23, rss 24).
-double statField(int n) {
-  const std::vector<std::string> fields = statFields();
+double statField(const std::vector<std::string>& fields, int n) {
   const size_t index = size_t(n - 3);
   return index < fields.size() ? std::stod(fields[index]) : std::nan("");
+}
+double statField(int n) {
+  return statField(statFields(), n);
 }
 
 double bootTimeSeconds() {
@@ -53,6 +55,12 @@ double bootTimeSeconds() {
 
 double ticksPerSecond() {
   return double(sysconf(_SC_CLK_TCK));
+}
+
+// utime + stime, from one read of the file.
+double cpuSeconds() {
+  const std::vector<std::string> fields = statFields();
+  return (statField(fields, 14) + statField(fields, 15)) / ticksPerSecond();
 }
 
 double openFileDescriptors() {
@@ -75,7 +83,7 @@ void registerProcessMetrics(MetricsRegistry& registry) {
                 "The server's version, the gRPC it was built with and its compiler.",
                 {"version", "grpc", "compiler"}, {kVersion, grpc::Version(), __VERSION__});
   registry.sampled("process_cpu_seconds_total", "User and system CPU time spent, in seconds.",
-                   "counter", [] { return (statField(14) + statField(15)) / ticksPerSecond(); });
+                   "counter", cpuSeconds);
   registry.sampled("process_resident_memory_bytes", "Resident memory size in bytes.", "gauge",
                    [] { return statField(24) * double(sysconf(_SC_PAGESIZE)); });
   registry.sampled("process_virtual_memory_bytes", "Virtual memory size in bytes.", "gauge",
