@@ -62,30 +62,37 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
 
 // Tiles triangulated on all cores in runs, the runs' triangles concatenated in order (with each
 // triangle's tile when `record`), also on all cores: appended on one thread, the copy was 40 % of
-// this phase on bigguy at 1e-4 (3.3 of 8 ms on 2 cores) and kept it from scaling on 16.
-void triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool record, TriangleMesh& mesh,
-                      const std::function<void()>& checkpoint) {
+// this phase on bigguy at 1e-4 (3.3 of 8 ms on 2 cores) and kept it from scaling on 16. Returns
+// the corners facing against their vertex normals (TileTriangleOutput), in order.
+std::vector<uint32_t> triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool record,
+                                       TriangleMesh& mesh, const std::function<void()>& checkpoint) {
   const size_t run = chunkFor(plan.tiles.size(), 4, 256);
   const size_t runs = (plan.tiles.size() + run - 1) / run;
-  std::vector<std::vector<uint32_t>> indices(runs), tiles(runs);
+  std::vector<TileTriangleOutput> outputs(runs);
+  std::vector<std::vector<uint32_t>> tiles(runs);
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
     const size_t end = std::min(plan.tiles.size(), (r + 1) * run);
     for (size_t t = r * run; t < end; ++t) {
-      const size_t before = indices[r].size();
-      triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, indices[r]);
-      if (record) tiles[r].insert(tiles[r].end(), (indices[r].size() - before) / 3, uint32_t(t));
+      const size_t before = outputs[r].indices.size();
+      triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, outputs[r]);
+      if (record) tiles[r].insert(tiles[r].end(), (outputs[r].indices.size() - before) / 3, uint32_t(t));
     }
   });
   std::vector<size_t> first(runs + 1, 0);  // run r's indices start at first[r]
-  for (size_t r = 0; r < runs; ++r) first[r + 1] = first[r] + indices[r].size();
+  std::vector<uint32_t> away;
+  for (size_t r = 0; r < runs; ++r) {
+    first[r + 1] = first[r] + outputs[r].indices.size();
+    for (uint32_t corner : outputs[r].awayCorners) away.push_back(uint32_t(first[r]) + corner);
+  }
   mesh.indices.resize(first[runs]);
   if (record) mesh.trianglePiece.resize(first[runs] / 3);
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
-    std::copy(indices[r].begin(), indices[r].end(), mesh.indices.begin() + ptrdiff_t(first[r]));
+    std::copy(outputs[r].indices.begin(), outputs[r].indices.end(), mesh.indices.begin() + ptrdiff_t(first[r]));
     if (record) std::copy(tiles[r].begin(), tiles[r].end(), mesh.trianglePiece.begin() + ptrdiff_t(first[r] / 3));
   });
+  return away;
 }
 
 // A face triangle's corners (core/face_triangles.h) in sub-face 0's coordinates unfolded past its
@@ -144,27 +151,11 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
 }
 
 // A fold narrower than the tiles there (the surface turns back within less than ε resolves)
-// shows as triangles facing against a vertex's limit normal. At this tolerance the fold is a
+// shows as triangles facing against a vertex's limit normal (`flagged`: those corners, as
+// positions in mesh.indices, found by triangulateTiles). At this tolerance the fold is a
 // crease: those triangles share a copy of the vertex (same position) whose normal is the
 // average of their face normals, or each its own where no average faces all of them.
-void splitFoldNormals(TriangleMesh& mesh) {
-  const TriangulationVertices vertices{mesh.positions, mesh.normals};
-  // The corners 3t + k facing against their normal, found on all cores (in order per run).
-  const size_t run = chunkFor(mesh.triangleCount(), 256, 4096);
-  const size_t triangles = mesh.triangleCount();
-  std::vector<std::vector<uint32_t>> found((triangles + run - 1) / run);
-  tbb::parallel_for(size_t(0), found.size(), [&](size_t r) {
-    for (size_t t = r * run; t < std::min(triangles, (r + 1) * run); ++t) {
-      const uint32_t* i = &mesh.indices[3 * t];
-      if (!facesAway(vertices, i[0], i[1], i[2])) continue;
-      const Vec3 n = cross(mesh.positions[i[1]] - mesh.positions[i[0]], mesh.positions[i[2]] - mesh.positions[i[0]]);
-      for (int k = 0; k < 3; ++k) {
-        if (dot(n, mesh.normals[i[k]]) < 0) found[r].push_back(uint32_t(3 * t + k));
-      }
-    }
-  });
-  std::vector<uint32_t> flagged;
-  for (const auto& part : found) flagged.insert(flagged.end(), part.begin(), part.end());
+void splitFoldNormals(std::vector<uint32_t> flagged, TriangleMesh& mesh) {
   if (flagged.empty()) return;
   std::sort(flagged.begin(), flagged.end(), [&mesh](uint32_t a, uint32_t b) {
     return mesh.indices[a] < mesh.indices[b] || (mesh.indices[a] == mesh.indices[b] && a < b);
@@ -337,9 +328,9 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
   }
   TriangleMesh mesh;
   evaluateVertices(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, checkpoint);
-  triangulateTiles(plan, stitching, recordParameters, mesh, checkpoint);
+  std::vector<uint32_t> away = triangulateTiles(plan, stitching, recordParameters, mesh, checkpoint);
   if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
-  splitFoldNormals(mesh);
+  splitFoldNormals(std::move(away), mesh);
   return mesh;
 }
 

@@ -20,26 +20,30 @@ using Chain = SmallVector<ChainPoint, 24>;
 
 class TileTriangles {
  public:
-  TileTriangles(const TriangulationVertices& vertices, uint32_t gridFirst, std::vector<uint32_t>& out)
-      : vertices_(vertices), gridFirst_(gridFirst), out_(out) {}
+  TileTriangles(const TriangulationVertices& vertices, uint32_t gridFirst, TileTriangleOutput& out)
+      : vertices_(vertices), gridFirst_(gridFirst), out_(out.indices), away_(out.awayCorners) {}
   uint32_t gridFirst() const { return gridFirst_; }
 
-  void emit(uint32_t a, uint32_t b, uint32_t c) {
+  void emit(uint32_t a, uint32_t b, uint32_t c) { emit(a, b, c, facesAway(vertices_, a, b, c)); }
+  // `away`: facesAway(a, b, c), when the caller has it already.
+  void emit(uint32_t a, uint32_t b, uint32_t c, bool away) {
     if (a == b || b == c || a == c) return;
+    if (away) flagAwayCorners(a, b, c);
     out_.insert(out_.end(), {a, b, c});
   }
   // A quad a, b, c, d (counter-clockwise) as two triangles: across the diagonal whose triangles
   // face the way their vertex normals do, the shorter one if both (or neither) do.
   void quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
-    const bool acFlips = facesAway(vertices_, a, b, c) || facesAway(vertices_, a, c, d);
-    const bool bdFlips = facesAway(vertices_, a, b, d) || facesAway(vertices_, b, c, d);
+    const bool abc = facesAway(vertices_, a, b, c), acd = facesAway(vertices_, a, c, d);
+    const bool abd = facesAway(vertices_, a, b, d), bcd = facesAway(vertices_, b, c, d);
+    const bool acFlips = abc || acd, bdFlips = abd || bcd;
     const bool ac = acFlips != bdFlips ? !acFlips
                                        : length(vertices_.position(a) - vertices_.position(c)) <=
                                              length(vertices_.position(b) - vertices_.position(d));
     if (ac) {
-      emit(a, b, c), emit(a, c, d);
+      emit(a, b, c, abc), emit(a, c, d, acd);
     } else {
-      emit(a, b, d), emit(b, c, d);
+      emit(a, b, d, abd), emit(b, c, d, bcd);
     }
   }
 
@@ -91,9 +95,20 @@ class TileTriangles {
   }
 
  private:
+  // The corners of a triangle about to be appended that face against its vertex normal.
+  void flagAwayCorners(uint32_t a, uint32_t b, uint32_t c) {
+    const uint32_t corner[3] = {a, b, c};
+    const Vec3& pa = vertices_.position(a);
+    const Vec3 n = cross(vertices_.position(b) - pa, vertices_.position(c) - pa);
+    for (int k = 0; k < 3; ++k) {
+      if (dot(n, vertices_.normal(corner[k])) < 0) away_.push_back(uint32_t(out_.size()) + uint32_t(k));
+    }
+  }
+
   const TriangulationVertices& vertices_;
   uint32_t gridFirst_;
   std::vector<uint32_t>& out_;
+  std::vector<uint32_t>& away_;
 };
 
 Chain reversed(const Chain& chain) {
@@ -321,8 +336,8 @@ bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, ui
 }
 
 void triangulateTile(const Stitching& stitching, size_t t, const Tile& tile, uint32_t gridFirst,
-                     const TriangulationVertices& vertices, std::vector<uint32_t>& indices) {
-  TileTriangles out(vertices, gridFirst, indices);
+                     const TriangulationVertices& vertices, TileTriangleOutput& output) {
+  TileTriangles out(vertices, gridFirst, output);
   if (tile.faceTriangle) return faceTriangle(stitching, t, tile, out);
   if (tile.cellwise) return cellwiseTile(stitching, t, tile, out);
   if (tile.ru >= 2 && tile.rv >= 2) return gridTile(stitching, t, tile, out);

@@ -23,10 +23,18 @@ struct TriangulationVertices {
   const Vec3& normal(uint32_t v) const { return normals[v]; }
 };
 
-// Appends tile t's triangles (vertex triples) to `indices`, for the tile's rates and inner grid
-// vertices from `gridFirst` on (row by row); positions and normals choose quads' diagonals.
+// Triangles as vertex triples, and the corners (positions in `indices`) whose triangle faces
+// against that corner's vertex normal (facesAway, then per corner), which a fold shows as
+// (adaptive_tessellator.cpp): found while the triangles are made, where quads have them already.
+struct TileTriangleOutput {
+  std::vector<uint32_t> indices;
+  std::vector<uint32_t> awayCorners;
+};
+
+// Appends tile t's triangles to `output`, for the tile's rates and inner grid vertices from
+// `gridFirst` on (row by row); positions and normals choose quads' diagonals.
 void triangulateTile(const Stitching& stitching, size_t t, const Tile& tile, uint32_t gridFirst,
-                     const TriangulationVertices& vertices, std::vector<uint32_t>& indices);
+                     const TriangulationVertices& vertices, TileTriangleOutput& output);
 
 // Whether a triangle's face normal points against one of its vertex normals.
 bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, uint32_t c);
