@@ -40,35 +40,37 @@ struct PatchSample {
 
 // Evaluates a tensor-product patch given its 1-D basis (B-spline or Bernstein) in double: each
 // row contracted along s first (value and s-derivative), then the four rows along t, a third of
-// the multiplications of summing the 16 points with their product weights.
-template <typename Point, typename Basis>
+// the multiplications of summing the 16 points with their product weights. `Acc` holds the
+// sums: Vec3d, or on the host a type doing Vec3d's component operations in SIMD lanes
+// (core/lanes.h), with the same results bit for bit.
+template <typename Acc, typename Point, typename Basis>
 TESSERA_HD PatchSample evaluateTensorPatch(const Point cv[16], double s, double t, Basis basis) {
   double ws[4], dws[4], wt[4], dwt[4];
   basis(s, ws, dws);
   basis(t, wt, dwt);
-  PatchSample r;
+  Acc position, dPds, dPdt;
   for (int row = 0; row < 4; ++row) {
-    Vec3d value, slope;
+    Acc value, slope;
     for (int col = 0; col < 4; ++col) {
-      const Vec3d p(cv[4 * row + col]);
+      const Acc p(cv[4 * row + col]);
       value += p * ws[col];
       slope += p * dws[col];
     }
-    r.position += value * wt[row];
-    r.dPds += slope * wt[row];
-    r.dPdt += value * dwt[row];
+    position += value * wt[row];
+    dPds += slope * wt[row];
+    dPdt += value * dwt[row];
   }
-  return r;
+  return {Vec3d(position), Vec3d(dPds), Vec3d(dPdt)};
 }
 
-template <typename Point>
+template <typename Point, typename Acc = Vec3d>
 TESSERA_HD PatchSample evaluateBspline(const Point cv[16], double s, double t) {
-  return evaluateTensorPatch(cv, s, t, [](double x, double* w, double* dw) { bsplineBasis(x, w, dw); });
+  return evaluateTensorPatch<Acc>(cv, s, t, [](double x, double* w, double* dw) { bsplineBasis(x, w, dw); });
 }
 
-template <typename Point>
+template <typename Point, typename Acc = Vec3d>
 TESSERA_HD PatchSample evaluateBezier(const Point cv[16], double s, double t) {
-  return evaluateTensorPatch(cv, s, t, [](double x, double* w, double* dw) { bernsteinBasis(x, w, dw); });
+  return evaluateTensorPatch<Acc>(cv, s, t, [](double x, double* w, double* dw) { bernsteinBasis(x, w, dw); });
 }
 
 // The scalar type of a point type: Vec3T<T> -> T, plain floating point -> itself.

@@ -4,6 +4,7 @@
 
 #include "core/bicubic.h"
 #include "core/fas.h"
+#include "core/lanes.h"
 #include "core/ring_patches.h"
 
 namespace tessera {
@@ -79,19 +80,19 @@ SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, d
     const EvBottom& bottom = tree_.evBottoms[node.payload];
     Vec3d g[16];
     for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]);
-    p = evaluateBezier(g, x, y);
+    p = evaluateBezier<Vec3d, LaneVec3>(g, x, y);
     offset = Vec3d(bottom.center);
   } else if (node.kind == NodeKind::kRegularLeaf) {
     orientation = Orientation::fromCode(node.orientation);
     double s, t;
     pieceParameters(orientation, x, y, s, t);
-    p = evaluateBspline(patches_.regular.bspline[node.payload].data(), s, t);
+    p = evaluateBspline<Vec3, LaneVec3>(patches_.regular.bspline[node.payload].data(), s, t);
   } else {
     const FasLeaf& leaf = tree_.fasLeaves[node.payload];
     orientation = Orientation::fromCode(node.orientation);
     double s, t;
     pieceParameters(orientation, x, y, s, t);
-    p = evaluateBspline(fasNet(node.payload), s, t);
+    p = evaluateBspline<Vec3d, LaneVec3>(fasNet(node.payload), s, t);
     offset = Vec3d(patches_.rings.centers[leaf.ring]);
   }
   p.position += offset;
