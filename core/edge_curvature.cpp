@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/lanes.h"
+
 namespace tessera {
 
 namespace {
@@ -16,12 +18,10 @@ float down(double x) {
   return double(f) <= x ? f : std::nextafter(f, -INFINITY);
 }
 
-// Four doubles, the lanes the hull terms are computed in: every lane does the operations the
-// scalar formulas below name, in their order, so the results are theirs bit for bit (the
-// planner computes this for every square below a leaf a grid may use: ~7 % of a call on the
-// creased torus at 1e-3 when it was written on Vec3d).
-using Lanes = double __attribute__((vector_size(32)));
-
+// The hull terms are computed in four-double lanes (core/lanes.h): every lane does the
+// operations the scalar formulas below name, in their order, so the results are theirs bit for
+// bit (the planner computes this for every square below a leaf a grid may use: ~7 % of a call on
+// the creased torus at 1e-3 when it was written on Vec3d).
 Lanes lanesMax(Lanes a, Lanes b) { return a > b ? a : b; }
 Lanes lanesMin(Lanes a, Lanes b) { return a < b ? a : b; }
 double largest(Lanes a) { return std::max(std::max(a[0], a[1]), std::max(a[2], a[3])); }
