@@ -73,9 +73,9 @@ inline BezierNet quadrantNet(const BezierNet& net, int qu, int qv) {
   return out;
 }
 
-// All four quadrant nets at once, out[qu + 2 qv] = quadrantNet(net, qu, qv) bit for bit: each row
-// and then each of the seven columns halved once, instead of once per quadrant.
-inline void quadrantNets(const BezierNet& net, BezierNet out[4]) {
+// All four quadrant nets at once, *out[qu + 2 qv] = quadrantNet(net, qu, qv) bit for bit: each
+// row and then each of the seven columns halved once, instead of once per quadrant.
+inline void quadrantNets(const BezierNet& net, BezierNet* const out[4]) {
   Vec3d rows[4][7];  // each row's two halves, sharing the middle point
   for (int row = 0; row < 4; ++row) {
     halveCurve(&net[4 * row], 1, false, &rows[row][0], 1);
@@ -89,7 +89,7 @@ inline void quadrantNets(const BezierNet& net, BezierNet out[4]) {
     for (int qu = 0; qu < 2; ++qu) {
       const int c = col - 3 * qu;  // the column's place in quadrant column qu
       if (c < 0 || c > 3) continue;
-      for (int k = 0; k < 4; ++k) out[qu][4 * k + c] = lower[k], out[qu + 2][4 * k + c] = upper[k];
+      for (int k = 0; k < 4; ++k) (*out[qu])[4 * k + c] = lower[k], (*out[qu + 2])[4 * k + c] = upper[k];
     }
   }
 }
