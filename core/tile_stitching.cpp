@@ -16,10 +16,12 @@ namespace {
 
 using namespace line_points;
 
-// A vertex reference while roots are stitched: a root's own vertex (root-local id), the end of a
-// tile side on the root's boundary (side 4t + k, `end` 0 or 1 in the side's coordinate), or a
-// seam vertex (a point of a boundary line).
-enum class Ref : uint8_t { kLocal, kSideEnd, kSeam };
+// A vertex reference while roots and lines are stitched: a root's own vertex (root-local id), the
+// end of a tile side on the root's boundary (side 4t + k, `end` 0 or 1 in the side's coordinate),
+// a seam node (SeamLines' index), or a boundary line's own point (its index among the line's own
+// points; the line is the one the side lies on). Named for good in assemble, once every root and
+// line is counted.
+enum class Ref : uint8_t { kLocal, kSideEnd, kNode, kLineOwn };
 struct PendingPoint {
   uint32_t id;
   Ref kind;
@@ -59,7 +61,8 @@ struct Arena {
   std::vector<VertexRequest> locals;  // roots' own vertices: inner corners, inner line points, grids
   std::vector<PendingPoint> pool;     // points of tile sides inside roots
   std::vector<LineUse> boundaryUses;  // tile sides on roots' boundaries, root side by root side
-  std::vector<Int> linePoints;        // resolved boundary lines
+  std::vector<PendingPoint> linePool;     // points of tile sides on boundary lines
+  std::vector<VertexRequest> ownPoints;  // boundary lines' own points, line by line
   std::vector<InnerCorner> inner;
   std::vector<uint32_t> cornerId;
   std::vector<LineUse> innerUses;
@@ -80,13 +83,18 @@ struct Slot {
   uint32_t offset = 0, count = 0;
 };
 
-// A boundary line once resolved: its points, how many are its own (not nodes), and for each node
-// the vertex request of the lowest tile with a corner there.
+// A tile side on a boundary line: its points in an arena's linePool, and the line.
+struct LineSlot {
+  const Arena* arena = nullptr;
+  uint32_t offset = 0, count = 0, line = 0;
+};
+
+// A boundary line once resolved: its own points (not nodes) in an arena's ownPoints, where they
+// go among the seam vertices, and for each node the vertex request of the lowest tile with a
+// corner there.
 struct LineRecord {
   const Arena* arena = nullptr;
-  int uniformCells = 0;  // > 0: every side spans the whole line, whose points are this many cells
-  Int denominator = 1;
-  uint32_t from = 0, count = 0, ownCount = 0, firstOwn = 0;
+  uint32_t ownFrom = 0, ownCount = 0, firstOwn = 0;
   VertexRequest claim[3] = {{UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}};
 };
 
@@ -140,12 +148,13 @@ class Stitcher {
   void resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a);
   void gatherUses(const SeamLines::Line& line, std::vector<LineUse>& uses) const;
   void resolveBoundaryLine(uint32_t l, Arena& a);
-  bool resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses);
-  void writeUniformLine(const SeamLines::Line& line, const LineRecord& record, const std::vector<LineUse>& uses);
-  void numberSeamVertices();
+  bool resolveUniformLine(uint32_t l, Arena& a);
   void writeBoundaryLine(uint32_t l, Arena& a);
+  void numberSeamVertices();
   int boundaryQualifier(const LineUse& use, const SeamLines::Line& line, bool end, double along) const;
   VertexRequest pointOn(const LineUse& use, double along) const;
+  uint32_t seamVertex(const PendingPoint& point, uint32_t line) const;
+  void assembleRoot(uint32_t r);
   void assemble();
   void splitNormals();
 
@@ -159,10 +168,10 @@ class Stitcher {
   std::vector<Slot> innerSide_;      // per tile side 4t + k inside its root: its points in the arena's pool
   std::vector<uint32_t> gridLocal_;  // per tile: root-local id of its first grid vertex
   std::vector<LineRecord> records_;  // per line
-  std::vector<Slot> boundarySide_;   // per tile side on its root's boundary: its points in boundaryPool_
-  std::vector<PendingPoint> boundaryPool_;
+  std::vector<LineSlot> boundarySide_;  // per tile side on its root's boundary
   std::vector<uint32_t> nodeVertex_;  // per node: its seam vertex
-  std::vector<VertexRequest> seamVertices_;
+  std::vector<VertexRequest> nodeVertices_;  // the first seam vertices, nodes that have one
+  uint32_t seamCount_ = 0;
   std::vector<uint32_t> localFirst_;  // per root, its first final vertex
   uint32_t seamFirst_ = 0;
   Stitching out_;
@@ -334,26 +343,22 @@ void Stitcher::gatherUses(const SeamLines::Line& line, std::vector<LineUse>& use
 // Node j of a line sits at t = j/2: in the line's units, j · denominator / 2.
 Int nodePosition(int j, Int denominator) { return j * denominator / 2; }
 
-// A boundary line's points (kept in the arena for writeBoundaryLine), how many each side gets,
-// and which tile names each node it has.
+// A boundary line's points, each named (a node, or the line's own point k) and handed to the
+// sides on it, each side's points in increasing side coordinate; the line's own points' vertex
+// requests; and which tile names each node it has.
 void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
   const SeamLines::Line& line = lines_.lines[l];
   LineRecord& record = records_[l];
   gatherUses(line, a.line);
   if (a.line.empty()) return;
-  if (resolveUniformLine(l, a.line)) return;
+  record.arena = &a;
+  record.ownFrom = uint32_t(a.ownPoints.size());
+  if (resolveUniformLine(l, a)) return;
   LinePoints& points = a.points;
   resolveLine(a.line.data(), a.line.size(), points);
-  record.arena = &a;
-  record.denominator = points.denominator;
-  record.from = uint32_t(a.linePoints.size());
-  record.count = uint32_t(points.points.size());
-  a.linePoints.insert(a.linePoints.end(), points.points.begin(), points.points.end());
-  record.ownCount = record.count;
   for (int j = 0; j < 3; ++j) {
     if (line.node[j] == kNoSeamNode) continue;
     const Int position = nodePosition(j, points.denominator);
-    if (std::binary_search(points.points.begin(), points.points.end(), position)) --record.ownCount;
     for (size_t u = 0; u < a.line.size(); ++u) {
       const LineUse& use = a.line[u];
       if (points.lo[u] != position && points.hi[u] != position) continue;
@@ -363,18 +368,15 @@ void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
       record.claim[j] = pointOn(use, along);
     }
   }
-  for (size_t u = 0; u < a.line.size(); ++u) {
-    const auto begin = std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]);
-    const auto end = std::upper_bound(begin, points.points.end(), points.hi[u]);
-    boundarySide_[4 * size_t(a.line[u].tile) + a.line[u].side].count = uint32_t(end - begin);
-  }
+  writeBoundaryLine(l, a);
 }
 
 // The common seam: every side on the line spans all of it (and a rigid side's cells divide the
 // densest's), so its points are the densest side's, k/cells for k = 0..cells (resolveLine's rule
-// comes to that), the ends are its nodes and each end is named by the lowest tile. Returns false
-// for any other line.
-bool Stitcher::resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses) {
+// comes to that), the ends are its nodes and each end is named by the lowest tile; the first side
+// on the line evaluates the own points. Returns false for any other line.
+bool Stitcher::resolveUniformLine(uint32_t l, Arena& a) {
+  const std::vector<LineUse>& uses = a.line;
   int cells = 0;
   uint32_t lowest = 0;
   for (uint32_t u = 0; u < uses.size(); ++u) {
@@ -386,22 +388,82 @@ bool Stitcher::resolveUniformLine(uint32_t l, const std::vector<LineUse>& uses) 
   for (const LineUse& use : uses) {
     if (use.rigid && cells % use.cells != 0) return false;
   }
+  const SeamLines::Line& line = lines_.lines[l];
   LineRecord& record = records_[l];
-  record.uniformCells = cells;
-  record.count = uint32_t(cells) + 1;
   record.ownCount = uint32_t(cells) - 1;
-  const LineUse& use = uses[lowest];
+  const LineUse& lowestUse = uses[lowest];
   for (int j = 0; j <= 2; j += 2) {
     // Node j at t = j/2: the side's coordinate there is 0 or 1, as the side runs along the line.
-    const double along = (j == 0) == (use.sign > 0) ? 0 : 1;
-    record.claim[j] = pointOn(use, along);
+    const double along = (j == 0) == (lowestUse.sign > 0) ? 0 : 1;
+    record.claim[j] = pointOn(lowestUse, along);
   }
-  for (const LineUse& each : uses) boundarySide_[4 * size_t(each.tile) + each.side].count = record.count;
+  const LineUse& owner = uses[0];
+  for (int k = 1; k < cells; ++k) a.ownPoints.push_back(pointOn(owner, double(owner.sign > 0 ? k : cells - k) / cells));
+  for (const LineUse& use : uses) {
+    boundarySide_[4 * size_t(use.tile) + use.side] = {&a, uint32_t(a.linePool.size()), uint32_t(cells) + 1, l};
+    for (int q = 0; q <= cells; ++q) {
+      // Point q along the side is point k along the line: node 0, own point k − 1, or node 2.
+      const int k = use.sign > 0 ? q : cells - q;
+      const double at = double(q) / cells, back = double(cells - q) / cells;
+      const int qualifier = boundaryQualifier(use, line, q == 0 || q == cells, at);
+      if (k == 0 || k == cells) {
+        a.linePool.push_back({line.node[k == 0 ? 0 : 2], Ref::kNode, 0, qualifier, at, back});
+      } else {
+        a.linePool.push_back({uint32_t(k - 1), Ref::kLineOwn, 0, qualifier, at, back});
+      }
+    }
+  }
   return true;
 }
 
+// A resolved line's points (in a.points) named: a node, or the line's own points in order, each
+// evaluated by the first side holding it; then each side's points with their side coordinates.
+void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
+  const SeamLines::Line& line = lines_.lines[l];
+  LineRecord& record = records_[l];
+  const std::vector<LineUse>& uses = a.line;
+  LinePoints& points = a.points;
+  const size_t count = points.points.size();
+  a.resolved.resize(count);
+  const std::vector<uint32_t>& order = byStart(points);
+  size_t cursor = 0;
+  uint32_t own = 0;
+  Int nodeAt[3];
+  for (int j = 0; j < 3; ++j) nodeAt[j] = line.node[j] == kNoSeamNode ? Int(-1) : nodePosition(j, points.denominator);
+  for (size_t p = 0; p < count; ++p) {
+    const Int value = points.points[p];
+    const int node = value == nodeAt[0] ? 0 : value == nodeAt[1] ? 1 : value == nodeAt[2] ? 2 : -1;
+    if (node >= 0) {
+      a.resolved[p] = {line.node[node], Ref::kNode, 0, -1, 0, 0};
+      continue;
+    }
+    const size_t owner = holder(points, order, cursor, value);
+    const LineUse& use = uses[owner];
+    double along, back;
+    sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
+    a.ownPoints.push_back(pointOn(use, along));
+    a.resolved[p] = {own++, Ref::kLineOwn, 0, -1, 0, 0};
+  }
+  record.ownCount = own;
+  for (size_t u = 0; u < uses.size(); ++u) {
+    const LineUse& use = uses[u];
+    const uint32_t begin = uint32_t(std::lower_bound(points.points.begin(), points.points.end(), points.lo[u]) - points.points.begin());
+    const uint32_t end = uint32_t(std::upper_bound(points.points.begin() + begin, points.points.end(), points.hi[u]) - points.points.begin());
+    const uint32_t n = end - begin;
+    boundarySide_[4 * size_t(use.tile) + use.side] = {&a, uint32_t(a.linePool.size()), n, l};
+    // Lines run either way along a side: stored with the side's coordinate increasing.
+    for (uint32_t q = 0; q < n; ++q) {
+      const uint32_t p = use.sign < 0 ? end - 1 - q : begin + q;
+      PendingPoint point = a.resolved[p];
+      sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], points.points[p], point.at, point.back);
+      point.qualifier = boundaryQualifier(use, line, q == 0 || q + 1 == n, point.at);
+      a.linePool.push_back(point);
+    }
+  }
+}
+
 // Seam vertices: the nodes some tile has a corner at (in node order, each evaluated by the lowest
-// such tile), then every line's own points, line by line; and each boundary side's room.
+// such tile), then every line's own points, line by line.
 void Stitcher::numberSeamVertices() {
   // Per node the lowest claim as (tile, 3 · line + j), packed to compare in one step.
   std::vector<uint64_t> claims(lines_.nodeCount, UINT64_MAX);
@@ -416,21 +478,15 @@ void Stitcher::numberSeamVertices() {
   for (uint32_t node = 0; node < lines_.nodeCount; ++node) {
     if (claims[node] == UINT64_MAX) continue;
     const uint32_t lineNode = uint32_t(claims[node] & UINT32_MAX);
-    nodeVertex_[node] = uint32_t(seamVertices_.size());
-    seamVertices_.push_back(records_[lineNode / 3].claim[lineNode % 3]);
+    nodeVertex_[node] = uint32_t(nodeVertices_.size());
+    nodeVertices_.push_back(records_[lineNode / 3].claim[lineNode % 3]);
   }
-  uint32_t next = uint32_t(seamVertices_.size());
+  uint32_t next = uint32_t(nodeVertices_.size());
   for (LineRecord& record : records_) {
     record.firstOwn = next;
     next += record.ownCount;
   }
-  seamVertices_.resize(next);
-  uint32_t offset = 0;
-  for (Slot& slot : boundarySide_) {
-    slot.offset = offset;
-    offset += slot.count;
-  }
-  boundaryPool_.resize(offset);
+  seamCount_ = next;
 }
 
 // How a boundary side's point splits its normal for the side's root: at a root corner as the
@@ -463,87 +519,44 @@ VertexRequest Stitcher::pointOn(const LineUse& use, double along) const {
   return request;
 }
 
-// Every point of a boundary line named (a node's vertex or the line's own) and handed to the
-// sides on it, each side's points in increasing side coordinate.
-void Stitcher::writeBoundaryLine(uint32_t l, Arena& a) {
-  const LineRecord& record = records_[l];
-  const SeamLines::Line& line = lines_.lines[l];
-  std::vector<LineUse>& uses = a.line;
-  if (record.uniformCells > 0) {
-    gatherUses(line, uses);
-    return writeUniformLine(line, record, uses);
-  }
-  if (record.arena == nullptr) return;
-  gatherUses(line, uses);
-  const Int* values = record.arena->linePoints.data() + record.from;
-  LinePoints& points = a.points;
-  points.lo.resize(uses.size()), points.hi.resize(uses.size()), points.cell.resize(uses.size());
-  for (size_t u = 0; u < uses.size(); ++u) {
-    const LineUse& use = uses[u];
-    points.cell[u] = quotient(record.denominator, Int(use.cells) << use.exp);
-    const Int p0 = use.a * points.cell[u], p1 = (use.a + use.sign * use.cells) * points.cell[u];
-    points.lo[u] = std::min(p0, p1), points.hi[u] = std::max(p0, p1);
-  }
-  std::vector<uint32_t>& ids = a.endOf;
-  ids.resize(record.count);
-  const std::vector<uint32_t>& order = byStart(points);
-  size_t cursor = 0;
-  uint32_t nextOwn = record.firstOwn;
-  Int nodeAt[3];
-  for (int j = 0; j < 3; ++j) nodeAt[j] = line.node[j] == kNoSeamNode ? Int(-1) : nodePosition(j, record.denominator);
-  for (uint32_t p = 0; p < record.count; ++p) {
-    const Int value = values[p];
-    const int node = value == nodeAt[0] ? 0 : value == nodeAt[1] ? 1 : value == nodeAt[2] ? 2 : -1;
-    if (node >= 0) {
-      ids[p] = nodeVertex_[line.node[node]];
-      continue;
-    }
-    const size_t owner = holder(points, order, cursor, value);
-    const LineUse& use = uses[owner];
-    double along, back;
-    sideCoordinates(use, points.lo[owner], points.hi[owner], points.cell[owner], value, along, back);
-    seamVertices_[nextOwn] = pointOn(use, along);
-    ids[p] = nextOwn++;
-  }
-  for (size_t u = 0; u < uses.size(); ++u) {
-    const LineUse& use = uses[u];
-    const Slot slot = boundarySide_[4 * size_t(use.tile) + use.side];
-    const uint32_t begin = uint32_t(std::lower_bound(values, values + record.count, points.lo[u]) - values);
-    for (uint32_t q = 0; q < slot.count; ++q) {
-      const uint32_t p = begin + q;
-      PendingPoint point{ids[p], Ref::kSeam, 0, -1, 0, 0};
-      sideCoordinates(use, points.lo[u], points.hi[u], points.cell[u], values[p], point.at, point.back);
-      point.qualifier = boundaryQualifier(use, line, q == 0 || q + 1 == slot.count, point.at);
-      // Lines run either way along a side: stored with the side's coordinate increasing.
-      boundaryPool_[slot.offset + (use.sign < 0 ? slot.count - 1 - q : q)] = point;
+// A boundary line's point (kNode or kLineOwn) on line `line`: its final vertex.
+uint32_t Stitcher::seamVertex(const PendingPoint& point, uint32_t line) const {
+  return seamFirst_ + (point.kind == Ref::kNode ? nodeVertex_[point.id] : records_[line].firstOwn + point.id);
+}
+
+// Root r's own vertices and its tiles' side points, named for good.
+void Stitcher::assembleRoot(uint32_t r) {
+  const RootSlice& slice = slices_[r];
+  if (slice.arena == nullptr) return;
+  std::copy_n(slice.arena->locals.begin() + slice.localsFrom, slice.localsCount, out_.vertices.begin() + localFirst_[r]);
+  for (uint32_t t = plan_.rootFirstTile[r]; t < plan_.rootFirstTile[r + 1]; ++t) {
+    out_.gridFirst[t] = localFirst_[r] + gridLocal_[t];
+    for (size_t s = 4 * size_t(t); s < 4 * size_t(t) + 4; ++s) {
+      const bool inside = innerSide_[s].count > 0;
+      const LineSlot& onLine = boundarySide_[s];
+      if (!inside && onLine.count == 0) continue;  // a face triangle's side on no line
+      const PendingPoint* side = inside ? slice.arena->pool.data() + innerSide_[s].offset
+                                        : onLine.arena->linePool.data() + onLine.offset;
+      SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
+      for (uint32_t q = 0; q < out_.sideFirst[s + 1] - out_.sideFirst[s]; ++q) {
+        const PendingPoint& point = side[q];
+        SidePoint& result = out[q];
+        result = {point.id, point.at, point.back, point.qualifier};
+        if (point.kind == Ref::kLocal) result.vertex += localFirst_[r];
+        if (point.kind == Ref::kNode || point.kind == Ref::kLineOwn) result.vertex = seamVertex(point, onLine.line);
+        if (point.kind == Ref::kSideEnd) {
+          const LineSlot& end = boundarySide_[point.id];
+          const PendingPoint& corner = end.arena->linePool[end.offset + (point.end ? end.count - 1 : 0)];
+          result.vertex = seamVertex(corner, end.line);
+          result.qualifier = corner.qualifier;
+        }
+      }
     }
   }
 }
 
-// A uniform line (resolveUniformLine): point k at t = k/cells is node 0, the line's own point
-// k − 1, or node 2; the first side on the line evaluates the own points.
-void Stitcher::writeUniformLine(const SeamLines::Line& line, const LineRecord& record, const std::vector<LineUse>& uses) {
-  const int cells = record.uniformCells;
-  auto idOf = [&](int k) {
-    return k == 0 ? nodeVertex_[line.node[0]] : k == cells ? nodeVertex_[line.node[2]] : record.firstOwn + uint32_t(k - 1);
-  };
-  const LineUse& owner = uses[0];
-  for (int k = 1; k < cells; ++k) {
-    const double along = double(owner.sign > 0 ? k : cells - k) / cells;
-    seamVertices_[record.firstOwn + uint32_t(k - 1)] = pointOn(owner, along);
-  }
-  for (const LineUse& use : uses) {
-    PendingPoint* out = boundaryPool_.data() + boundarySide_[4 * size_t(use.tile) + use.side].offset;
-    for (int q = 0; q <= cells; ++q) {
-      // Point q along the side is point k along the line.
-      const int k = use.sign > 0 ? q : cells - q;
-      const double at = double(q) / cells, back = double(cells - q) / cells;
-      out[q] = {idOf(k), Ref::kSeam, 0, boundaryQualifier(use, line, q == 0 || q == cells, at), at, back};
-    }
-  }
-}
-
-// Final vertex ids: each root's own vertices root by root, then the seam vertices.
+// Final vertex ids: each root's own vertices root by root, then the seam vertices (nodes, then
+// the lines' own points). Roots and lines are copied into place together, on all cores.
 void Stitcher::assemble() {
   localFirst_.resize(slices_.size());
   uint32_t next = 0;
@@ -552,7 +565,7 @@ void Stitcher::assemble() {
     next += slices_[r].localsCount;
   }
   seamFirst_ = next;
-  out_.vertices.resize(next + seamVertices_.size());
+  out_.vertices.resize(next + seamCount_);
   const size_t tiles = plan_.tiles.size();
   out_.sideFirst.assign(4 * tiles + 1, 0);
   out_.gridFirst.resize(tiles);
@@ -560,32 +573,14 @@ void Stitcher::assemble() {
     out_.sideFirst[s + 1] = out_.sideFirst[s] + (innerSide_[s].count > 0 ? innerSide_[s].count : boundarySide_[s].count);
   }
   out_.sidePoints.resize(out_.sideFirst.back());
-  std::copy(seamVertices_.begin(), seamVertices_.end(), out_.vertices.begin() + seamFirst_);
-  tbb::parallel_for(size_t(0), slices_.size(), [&](size_t r) {
-    const RootSlice& slice = slices_[r];
-    if (slice.arena == nullptr) return;
-    std::copy_n(slice.arena->locals.begin() + slice.localsFrom, slice.localsCount, out_.vertices.begin() + localFirst_[r]);
-    for (uint32_t t = plan_.rootFirstTile[r]; t < plan_.rootFirstTile[r + 1]; ++t) {
-      out_.gridFirst[t] = localFirst_[r] + gridLocal_[t];
-      for (size_t s = 4 * size_t(t); s < 4 * size_t(t) + 4; ++s) {
-        const bool inside = innerSide_[s].count > 0;
-        const PendingPoint* side = inside ? slice.arena->pool.data() + innerSide_[s].offset : boundaryPool_.data() + boundarySide_[s].offset;
-        SidePoint* out = out_.sidePoints.data() + out_.sideFirst[s];
-        for (uint32_t q = 0; q < out_.sideFirst[s + 1] - out_.sideFirst[s]; ++q) {
-          const PendingPoint& point = side[q];
-          SidePoint& result = out[q];
-          result = {point.id, point.at, point.back, point.qualifier};
-          if (point.kind == Ref::kLocal) result.vertex += localFirst_[r];
-          if (point.kind == Ref::kSeam) result.vertex += seamFirst_;
-          if (point.kind == Ref::kSideEnd) {
-            const Slot end = boundarySide_[point.id];
-            const PendingPoint& corner = boundaryPool_[end.offset + (point.end ? end.count - 1 : 0)];
-            result.vertex = seamFirst_ + corner.id;
-            result.qualifier = corner.qualifier;
-          }
-        }
-      }
-    }
+  std::copy(nodeVertices_.begin(), nodeVertices_.end(), out_.vertices.begin() + seamFirst_);
+  const size_t roots = slices_.size();
+  tbb::parallel_for(size_t(0), roots + records_.size(), [&](size_t i) {
+    if (i < roots) return assembleRoot(uint32_t(i));
+    const LineRecord& record = records_[i - roots];
+    if (record.ownCount == 0) return;
+    std::copy_n(record.arena->ownPoints.begin() + record.ownFrom, record.ownCount,
+                out_.vertices.begin() + seamFirst_ + record.firstOwn);
   });
   for (uint32_t v = 0; v < out_.vertices.size(); ++v) out_.vertices[v].positionOf = v;
 }
@@ -670,10 +665,6 @@ Stitching Stitcher::run() {
   });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), lineChunk), [&](const auto& range) {
-    Arena& a = arenas_.local();
-    for (uint32_t l = range.begin(); l != range.end(); ++l) writeBoundaryLine(l, a);
-  });
   assemble();
   splitNormals();
   return std::move(out_);
