@@ -193,18 +193,25 @@ void splitFoldNormals(std::vector<uint32_t> flagged, TriangleMesh& mesh) {
 }
 
 // Checks the pending tiles of `roots` against their neighbours; returns the squares of those
-// whose bound breaks their ε.
+// whose bound breaks their ε. A root's check is a fraction of a microsecond, so roots go in
+// chunks of 64: a small request checks on one thread (a parallel region costs more than its
+// whole check), a large one on all.
 std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors& neighbors,
                                      const std::vector<uint32_t>& roots) {
-  std::vector<std::vector<TileSquare>> failed(roots.size());
-  tbb::parallel_for(size_t(0), roots.size(), [&](size_t i) {
-    const uint32_t r = roots[i];
-    for (uint32_t t = 0; t < tiles[r].size(); ++t) {
-      const Tile& tile = tiles[r][t];
-      if (!tile.pendingPair) continue;
-      uint8_t sides = 0;
-      for (int k = 0; k < 4; ++k) sides |= uint8_t(neighbors.sideGetsPoints(r, t, k) << k);
-      if (tile.boundWithPoints(sides) > tile.tolerance) failed[i].push_back({r, tile.level, tile.ix, tile.iy, sides});
+  constexpr size_t kChunk = 64;
+  std::vector<std::vector<TileSquare>> failed((roots.size() + kChunk - 1) / kChunk);
+  tbb::parallel_for(size_t(0), failed.size(), [&](size_t chunk) {
+    for (size_t i = chunk * kChunk; i < std::min(roots.size(), (chunk + 1) * kChunk); ++i) {
+      const uint32_t r = roots[i];
+      for (uint32_t t = 0; t < tiles[r].size(); ++t) {
+        const Tile& tile = tiles[r][t];
+        if (!tile.pendingPair) continue;
+        uint8_t sides = 0;
+        for (int k = 0; k < 4; ++k) sides |= uint8_t(neighbors.sideGetsPoints(r, t, k) << k);
+        if (tile.boundWithPoints(sides) > tile.tolerance) {
+          failed[chunk].push_back({r, tile.level, tile.ix, tile.iy, sides});
+        }
+      }
     }
   });
   std::vector<TileSquare> all;
