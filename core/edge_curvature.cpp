@@ -1,6 +1,9 @@
 #include "core/edge_curvature.h"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "core/lanes.h"
 
@@ -8,14 +11,23 @@ namespace tessera {
 
 namespace {
 
+// std::nextafter(f, +∞) without the library call (half of the eleven roundings below need it, for
+// every square the planner bounds): the neighbouring bit pattern.
+float nextUp(float f) {
+  if (std::isnan(f) || f == INFINITY) return f;
+  if (f == 0) return std::numeric_limits<float>::denorm_min();
+  const uint32_t bits = std::bit_cast<uint32_t>(f);
+  return std::bit_cast<float>(f > 0 ? bits + 1 : bits - 1);
+}
+
 // Rounded outward to float, so that stored bounds stay bounds.
 float up(double x) {
   const float f = float(x);
-  return double(f) >= x ? f : std::nextafter(f, INFINITY);
+  return double(f) >= x ? f : nextUp(f);
 }
 float down(double x) {
   const float f = float(x);
-  return double(f) <= x ? f : std::nextafter(f, -INFINITY);
+  return double(f) <= x ? f : -nextUp(-f);
 }
 
 // The hull terms are computed in four-double lanes (core/lanes.h): every lane does the
