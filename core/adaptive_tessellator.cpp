@@ -74,6 +74,13 @@ std::vector<uint32_t> triangulateTiles(const AdaptivePlan& plan, const Stitching
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
     const size_t end = std::min(plan.tiles.size(), (r + 1) * run);
+    // Room for the run's triangles up front (a tile makes two a cell and one a side point past
+    // its own, about), not grown by doubling from nothing.
+    size_t room = 0;
+    for (size_t t = r * run; t < end; ++t) {
+      room += 2 * size_t(plan.tiles[t].ru) * size_t(plan.tiles[t].rv) + stitching.sideFirst[4 * t + 4] - stitching.sideFirst[4 * t];
+    }
+    outputs[r].indices.reserve(3 * room);
     for (size_t t = r * run; t < end; ++t) {
       const size_t before = outputs[r].indices.size();
       triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, outputs[r]);

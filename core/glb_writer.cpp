@@ -83,11 +83,18 @@ View ownedViewOf(const std::vector<T>& values, int target = kArrayBuffer) {
 
 View indexView(const std::vector<uint32_t>& indices, size_t vertices) {
   if (!fitsShortIndices(vertices)) return viewOf(indices, kElementArrayBuffer);
-  std::vector<uint16_t> narrow(indices.size());
+  View view;
+  view.stride = sizeof(uint16_t), view.count = indices.size(), view.target = kElementArrayBuffer;
+  view.owned.resize(indices.size() * sizeof(uint16_t));
+  uint8_t* narrow = view.owned.data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size(), 1 << 16), [&](const auto& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) narrow[i] = static_cast<uint16_t>(indices[i]);
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const uint16_t index = static_cast<uint16_t>(indices[i]);
+      std::memcpy(narrow + sizeof index * i, &index, sizeof index);
+    }
   });
-  return ownedViewOf(narrow, kElementArrayBuffer);
+  view.data = view.owned.data(), view.size = view.owned.size();
+  return view;
 }
 
 // The bitstream versions EXT_meshopt_compression specifies (attributes 0xa0, triangles 0xe1).
@@ -355,22 +362,24 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& option
   json.resize(padded(json.size()), ' ');
   const size_t total = 12 + 8 + json.size() + 8 + binBytes;
   if (total > UINT32_MAX) throwLimit("the GLB would be over 4 GiB, the format's limit; raise the tolerance");
-  std::vector<uint8_t> glb(total, 0);
-  put32(glb.data(), kGlbMagic);
-  put32(glb.data() + 4, 2);
-  put32(glb.data() + 8, uint32_t(total));
-  put32(glb.data() + 12, uint32_t(json.size()));
-  put32(glb.data() + 16, kChunkJson);
-  std::memcpy(glb.data() + 20, json.data(), json.size());
-  uint8_t* bin = glb.data() + 20 + json.size();
-  put32(bin, uint32_t(binBytes));
-  put32(bin + 4, kChunkBin);
-  uint8_t* at = bin + 8;
+  // Appended piece by piece into its room (not zero-filled first, then copied over).
+  std::vector<uint8_t> glb;
+  glb.reserve(total);
+  auto append32 = [&glb](uint32_t value) {
+    uint8_t bytes[4];
+    put32(bytes, value);
+    glb.insert(glb.end(), bytes, bytes + 4);
+  };
+  append32(kGlbMagic), append32(2), append32(uint32_t(total));
+  append32(uint32_t(json.size())), append32(kChunkJson);
+  glb.insert(glb.end(), json.begin(), json.end());
+  append32(uint32_t(binBytes)), append32(kChunkBin);
   for (const View& view : stored.views) {
     const bool compressed = !view.compressed.empty();
     const size_t size = compressed ? view.compressed.size() : view.size;
-    if (size) std::memcpy(at, compressed ? view.compressed.data() : view.data, size);
-    at += padded(size);
+    const uint8_t* data = compressed ? view.compressed.data() : view.data;
+    if (size) glb.insert(glb.end(), data, data + size);
+    glb.resize(glb.size() + padded(size) - size, 0);
   }
   return glb;
 }
