@@ -33,13 +33,24 @@ class TileTriangles {
   }
   // A quad a, b, c, d (counter-clockwise) as two triangles: across the diagonal whose triangles
   // face the way their vertex normals do, the shorter one if both (or neither) do.
+  // The shorter diagonal's pair is tested first: when it does not flip, it is the choice whatever
+  // the other pair does, and the other is not tested (most quads).
   void quad(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
-    const bool abc = facesAway(vertices_, a, b, c), acd = facesAway(vertices_, a, c, d);
-    const bool abd = facesAway(vertices_, a, b, d), bcd = facesAway(vertices_, b, c, d);
-    const bool acFlips = abc || acd, bdFlips = abd || bcd;
-    const bool ac = acFlips != bdFlips ? !acFlips
-                                       : length(vertices_.position(a) - vertices_.position(c)) <=
-                                             length(vertices_.position(b) - vertices_.position(d));
+    const bool acShorter = length(vertices_.position(a) - vertices_.position(c)) <=
+                           length(vertices_.position(b) - vertices_.position(d));
+    bool abc = false, acd = false, abd = false, bcd = false;
+    auto testAc = [&] { abc = facesAway(vertices_, a, b, c), acd = facesAway(vertices_, a, c, d); };
+    auto testBd = [&] { abd = facesAway(vertices_, a, b, d), bcd = facesAway(vertices_, b, c, d); };
+    bool ac;
+    if (acShorter) {
+      testAc();
+      ac = !(abc || acd);
+      if (!ac) testBd(), ac = abd || bcd;  // both flip: the shorter
+    } else {
+      testBd();
+      ac = abd || bcd;
+      if (ac) testAc(), ac = !(abc || acd);  // both flip: the shorter
+    }
     if (ac) {
       emit(a, b, c, abc), emit(a, c, d, acd);
     } else {
