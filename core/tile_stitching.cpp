@@ -121,6 +121,15 @@ ArenaPool& arenaPool() {
   return pool;
 }
 
+// A side point that splits its vertex's normal (a qualifier ≥ 0): the claim of its tile's side on
+// that vertex (splitNormals).
+struct NormalClaim {
+  uint32_t vertex;
+  int qualifier;
+  uint32_t tile, sidePoint;
+  int side;
+};
+
 struct RootSlice {
   const Arena* arena = nullptr;  // null: a root without tiles (a hole)
   uint32_t localsFrom = 0, localsCount = 0;
@@ -226,6 +235,7 @@ class Stitcher {
   std::vector<VertexRequest> nodeVertices_;  // the first seam vertices, nodes that have one
   uint32_t seamCount_ = 0;
   std::vector<uint32_t> localFirst_;  // per root, its first final vertex
+  std::vector<std::vector<NormalClaim>> normalClaims_;  // per root, found while assembling
   uint32_t seamFirst_ = 0;
   Stitching out_;
 };
@@ -582,6 +592,7 @@ void Stitcher::assembleRoot(uint32_t r) {
   const RootSlice& slice = slices_[r];
   if (slice.arena == nullptr) return;
   std::copy_n(slice.arena->locals.begin() + slice.localsFrom, slice.localsCount, out_.vertices.begin() + localFirst_[r]);
+  for (uint32_t v = localFirst_[r]; v < localFirst_[r] + slice.localsCount; ++v) out_.vertices[v].positionOf = v;
   for (uint32_t t = plan_.rootFirstTile[r]; t < plan_.rootFirstTile[r + 1]; ++t) {
     out_.gridFirst[t] = localFirst_[r] + gridLocal_[t];
     for (size_t s = 4 * size_t(t); s < 4 * size_t(t) + 4; ++s) {
@@ -602,6 +613,9 @@ void Stitcher::assembleRoot(uint32_t r) {
           const PendingPoint& corner = end.arena->linePool[end.offset + (point.end ? end.count - 1 : 0)];
           result.vertex = seamVertex(corner, end.line);
           result.qualifier = corner.qualifier;
+        }
+        if (result.qualifier >= 0) {
+          normalClaims_[r].push_back({result.vertex, result.qualifier, t, out_.sideFirst[s] + q, int(s % 4)});
         }
       }
     }
@@ -627,36 +641,25 @@ void Stitcher::assemble() {
   }
   out_.sidePoints.resize(out_.sideFirst.back());
   std::copy(nodeVertices_.begin(), nodeVertices_.end(), out_.vertices.begin() + seamFirst_);
+  for (uint32_t v = seamFirst_; v < seamFirst_ + nodeVertices_.size(); ++v) out_.vertices[v].positionOf = v;
   const size_t roots = slices_.size();
+  normalClaims_.resize(roots);
   tbb::parallel_for(size_t(0), roots + records_.size(), [&](size_t i) {
     if (i < roots) return assembleRoot(uint32_t(i));
     const LineRecord& record = records_[i - roots];
     if (record.ownCount == 0) return;
-    std::copy_n(record.arena->ownPoints.begin() + record.ownFrom, record.ownCount,
-                out_.vertices.begin() + seamFirst_ + record.firstOwn);
+    const uint32_t first = seamFirst_ + record.firstOwn;
+    std::copy_n(record.arena->ownPoints.begin() + record.ownFrom, record.ownCount, out_.vertices.begin() + first);
+    for (uint32_t v = first; v < first + record.ownCount; ++v) out_.vertices[v].positionOf = v;
   });
-  for (uint32_t v = 0; v < out_.vertices.size(); ++v) out_.vertices[v].positionOf = v;
 }
 
 // Across an infinitely sharp edge, and around a vertex that sharp edges cut into wedges, each
 // side gets its own vertex: the same position (evaluated once), its own normal.
 void Stitcher::splitNormals() {
-  struct Claim {
-    uint32_t vertex;
-    int qualifier;
-    uint32_t tile, sidePoint;
-    int side;
-  };
-  std::vector<Claim> claims;
-  for (size_t t = 0; t < plan_.tiles.size(); ++t) {
-    for (int k = 0; k < 4; ++k) {
-      for (uint32_t index = out_.sideFirst[4 * t + k]; index < out_.sideFirst[4 * t + k + 1]; ++index) {
-        const SidePoint& point = out_.sidePoints[index];
-        if (point.qualifier >= 0) claims.push_back({point.vertex, point.qualifier, uint32_t(t), index, k});
-      }
-    }
-  }
-  std::sort(claims.begin(), claims.end(), [](const Claim& x, const Claim& y) {
+  std::vector<NormalClaim> claims;
+  for (const std::vector<NormalClaim>& root : normalClaims_) claims.insert(claims.end(), root.begin(), root.end());
+  std::sort(claims.begin(), claims.end(), [](const NormalClaim& x, const NormalClaim& y) {
     if (x.vertex != y.vertex) return x.vertex < y.vertex;
     if (x.qualifier != y.qualifier) return x.qualifier < y.qualifier;
     return x.tile < y.tile || (x.tile == y.tile && x.sidePoint < y.sidePoint);
