@@ -59,6 +59,7 @@ struct View {
   const uint8_t* data = nullptr;  // the bytes a reader sees
   size_t size = 0;
   std::vector<uint8_t> owned;     // those bytes when the mesh does not hold them
+  std::vector<uint16_t> shortIndices;  // or, for 16-bit indices, these
   size_t stride = 0, count = 0;
   int target = kArrayBuffer;
   std::vector<uint8_t> compressed;  // empty: stored as is
@@ -84,16 +85,13 @@ View ownedViewOf(const std::vector<T>& values, int target = kArrayBuffer) {
 View indexView(const std::vector<uint32_t>& indices, size_t vertices) {
   if (!fitsShortIndices(vertices)) return viewOf(indices, kElementArrayBuffer);
   View view;
-  view.stride = sizeof(uint16_t), view.count = indices.size(), view.target = kElementArrayBuffer;
-  view.owned.resize(indices.size() * sizeof(uint16_t));
-  uint8_t* narrow = view.owned.data();
+  view.shortIndices.resize(indices.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size(), 1 << 16), [&](const auto& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const uint16_t index = static_cast<uint16_t>(indices[i]);
-      std::memcpy(narrow + sizeof index * i, &index, sizeof index);
-    }
+    for (size_t i = range.begin(); i != range.end(); ++i) view.shortIndices[i] = static_cast<uint16_t>(indices[i]);
   });
-  view.data = view.owned.data(), view.size = view.owned.size();
+  view.stride = sizeof(uint16_t), view.count = indices.size(), view.target = kElementArrayBuffer;
+  view.data = reinterpret_cast<const uint8_t*>(view.shortIndices.data());
+  view.size = view.shortIndices.size() * sizeof(uint16_t);
   return view;
 }
 
@@ -188,7 +186,7 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   }
   result.views.push_back(ownedViewOf(normals));
   View index = indexView(indices, stored);
-  if (compress && index.owned.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
+  if (compress && index.owned.empty() && index.shortIndices.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
   result.views.push_back(std::move(index));
   if (compress) {
     useSpecifiedCodecVersions();
