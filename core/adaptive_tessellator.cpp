@@ -22,12 +22,37 @@ size_t AdaptiveSurface::bytes() const {
 
 namespace {
 
-// Every vertex on the limit surface, on all cores: positions once per point, then the copies that
-// carry another side's normal take their original's position bit for bit. Where each vertex lies
-// (face, sub-face, (u, v), its point) only when asked: tests and tools read it, a GLB does not.
-void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
-                      const Stitching& stitching, const std::vector<uint32_t>& tileRoot, bool record,
-                      TriangleMesh& mesh, const std::function<void()>& checkpoint) {
+// Vertices [first, last) on the limit surface. Where each lies (face, sub-face, (u, v)) only
+// when asked: tests and tools read it, a GLB does not.
+void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, const AdaptivePlan& plan,
+                   const Stitching& stitching, const std::vector<uint32_t>& tileRoot, bool record, size_t first,
+                   size_t last, TriangleMesh& mesh) {
+  for (size_t i = first; i < last; ++i) {
+    const VertexRequest& request = stitching.vertices[i];
+    const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
+    mesh.positions[i] = Vec3(sample.position);
+    mesh.normals[i] = Vec3(sample.normal);
+    if (!record) continue;
+    const SurfaceRoot& root = surface.tree.roots[tileRoot[request.tile]];
+    mesh.vertexFace[i] = root.baseFace;
+    mesh.vertexSubFace[i] = root.subFace;
+    mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
+  }
+}
+
+// Every vertex on the limit surface and every tile's triangles, on all cores. First the seam
+// vertices, which tiles of several roots share (the copies that carry another side's normal then
+// take their original's position bit for bit); then, run by run of roots, each root's own
+// vertices and at once its tiles' triangles, so that a root's vertices are triangulated by the
+// core that evaluated them, from its cache (the two were separate passes over all vertices and
+// all tiles). The runs' triangles are concatenated in order (with each triangle's tile when
+// `record`), also on all cores: appended on one thread, the copy was 40 % of triangulation on
+// bigguy at 1e-4 and kept it from scaling on 16 cores. Returns the corners facing against their
+// vertex normals (TileTriangleOutput), in order.
+std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const AdaptiveSurface& surface,
+                                             const AdaptivePlan& plan, const Stitching& stitching,
+                                             const std::vector<uint32_t>& tileRoot, bool record, TriangleMesh& mesh,
+                                             const std::function<void()>& checkpoint) {
   const size_t count = stitching.vertices.size();
   mesh.positions.resize(count);
   mesh.normals.resize(count);
@@ -35,53 +60,40 @@ void evaluateVertices(const PatchSet& patches, const AdaptiveSurface& surface, c
     mesh.vertexFace.resize(count);
     mesh.vertexSubFace.resize(count);
     mesh.vertexUv.resize(2 * count);
+    mesh.vertexPoint.resize(count);
+    for (size_t i = 0; i < count; ++i) mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
   }
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, chunkFor(count, 64, 1024)), [&](const auto& range) {
-    if (checkpoint) checkpoint();
-    SurfaceEvaluator& evaluator = evaluators.local();
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const VertexRequest& request = stitching.vertices[i];
-      const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
-      mesh.positions[i] = Vec3(sample.position);
-      mesh.normals[i] = Vec3(sample.normal);
-      if (!record) continue;
-      const SurfaceRoot& root = surface.tree.roots[tileRoot[request.tile]];
-      mesh.vertexFace[i] = root.baseFace;
-      mesh.vertexSubFace[i] = root.subFace;
-      mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
-    }
-  });
-  if (record) mesh.vertexPoint.resize(count);
-  for (size_t i = 0; i < count; ++i) {
-    if (record) mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
-    if (stitching.vertices[i].positionOf != i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
-  }
-}
+  const size_t seamFirst = stitching.rootFirstVertex.back();
+  tbb::parallel_for(tbb::blocked_range<size_t>(seamFirst, count, chunkFor(count - seamFirst, 64, 1024)),
+                    [&](const auto& range) {
+                      if (checkpoint) checkpoint();
+                      evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record, range.begin(),
+                                    range.end(), mesh);
+                    });
+  for (size_t i = stitching.copyFirst; i < count; ++i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
 
-// Tiles triangulated on all cores in runs, the runs' triangles concatenated in order (with each
-// triangle's tile when `record`), also on all cores: appended on one thread, the copy was 40 % of
-// this phase on bigguy at 1e-4 (3.3 of 8 ms on 2 cores) and kept it from scaling on 16. Returns
-// the corners facing against their vertex normals (TileTriangleOutput), in order.
-std::vector<uint32_t> triangulateTiles(const AdaptivePlan& plan, const Stitching& stitching, bool record,
-                                       TriangleMesh& mesh, const std::function<void()>& checkpoint) {
-  const size_t run = chunkFor(plan.tiles.size(), 4, 256);
-  const size_t runs = (plan.tiles.size() + run - 1) / run;
+  const size_t roots = plan.rootFirstTile.size() - 1;
+  const size_t run = chunkFor(roots, 1, 16);
+  const size_t runs = (roots + run - 1) / run;
   std::vector<TileTriangleOutput> outputs(runs);
   std::vector<std::vector<uint32_t>> tiles(runs);
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
-    const size_t end = std::min(plan.tiles.size(), (r + 1) * run);
+    const size_t firstRoot = r * run, endRoot = std::min(roots, (r + 1) * run);
+    evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record, stitching.rootFirstVertex[firstRoot],
+                  stitching.rootFirstVertex[endRoot], mesh);
+    const size_t firstTile = plan.rootFirstTile[firstRoot], endTile = plan.rootFirstTile[endRoot];
     // Room for the run's triangles up front (a tile makes two a cell and one a side point past
     // its own, about), not grown by doubling from nothing.
     size_t room = 0;
-    for (size_t t = r * run; t < end; ++t) {
+    for (size_t t = firstTile; t < endTile; ++t) {
       room += 2 * size_t(plan.tiles[t].ru) * size_t(plan.tiles[t].rv) + stitching.sideFirst[4 * t + 4] - stitching.sideFirst[4 * t];
     }
     outputs[r].indices.reserve(3 * room);
-    for (size_t t = r * run; t < end; ++t) {
+    for (size_t t = firstTile; t < endTile; ++t) {
       const size_t before = outputs[r].indices.size();
       triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, outputs[r]);
       if (record) tiles[r].insert(tiles[r].end(), (outputs[r].indices.size() - before) / 3, uint32_t(t));
@@ -159,7 +171,7 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
 
 // A fold narrower than the tiles there (the surface turns back within less than ε resolves)
 // shows as triangles facing against a vertex's limit normal (`flagged`: those corners, as
-// positions in mesh.indices, found by triangulateTiles). At this tolerance the fold is a
+// positions in mesh.indices, found by evaluateAndTriangulate). At this tolerance the fold is a
 // crease: those triangles share a copy of the vertex (same position) whose normal is the
 // average of their face normals, or each its own where no average faces all of them.
 void splitFoldNormals(std::vector<uint32_t> flagged, TriangleMesh& mesh) {
@@ -341,8 +353,8 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
     std::fill(tileRoot.begin() + plan.rootFirstTile[r], tileRoot.begin() + plan.rootFirstTile[r + 1], uint32_t(r));
   }
   TriangleMesh mesh;
-  evaluateVertices(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, checkpoint);
-  std::vector<uint32_t> away = triangulateTiles(plan, stitching, recordParameters, mesh, checkpoint);
+  std::vector<uint32_t> away =
+      evaluateAndTriangulate(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, checkpoint);
   if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
   splitFoldNormals(std::move(away), mesh);
   return mesh;

@@ -632,6 +632,8 @@ void Stitcher::assemble() {
     next += slices_[r].localsCount;
   }
   seamFirst_ = next;
+  out_.rootFirstVertex.assign(localFirst_.begin(), localFirst_.end());
+  out_.rootFirstVertex.push_back(seamFirst_);
   out_.vertices.resize(next + seamCount_);
   const size_t tiles = plan_.tiles.size();
   out_.sideFirst.assign(4 * tiles + 1, 0);
@@ -722,6 +724,7 @@ Stitching Stitcher::run() {
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
   assemble();
+  out_.copyFirst = uint32_t(out_.vertices.size());
   splitNormals();
   return std::move(out_);
 }

@@ -41,6 +41,12 @@ struct Stitching {
   UninitializedVector<SidePoint> sidePoints;
   std::vector<uint32_t> sideFirst;  // side k of tile t: [sideFirst[4t + k], sideFirst[4t + k + 1])
   std::vector<uint32_t> gridFirst;  // tile t's (ru − 1)(rv − 1) inner grid vertices, row by row
+  // Root r's own vertices (its tiles' inner corners, lines and grids), which only its tiles use:
+  // [rootFirstVertex[r], rootFirstVertex[r + 1]); from the last entry on, the seam vertices (on
+  // base edges and spokes, shared by tiles of several roots), and from copyFirst on the copies
+  // that split a seam vertex's normal (positionOf names the original).
+  std::vector<uint32_t> rootFirstVertex;
+  uint32_t copyFirst = 0;
 
   const SidePoint* side(size_t tile, int k, size_t& count) const {
     count = sideFirst[4 * tile + k + 1] - sideFirst[4 * tile + k];
