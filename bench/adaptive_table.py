@@ -14,7 +14,9 @@ the same binary (the measurement is not timed, so it can come from a run with le
 Ratios are Tessera over the oracle; the summed row divides the sums. Cases over the issue's
 per-case limits (triangles 1.5x, time 2x) are marked. --paired adds BM_TessGlb_Paired's time ratio
 (the median of ratios of alternated blocks, steadier on a VM whose speed drifts) as a column, and
-the cases over 2x by it.
+the cases over 2x by it. "round trip ns" is bench/machine_load.h's core-to-core round trip when
+each run started (Tessera/Bfr; the paired run's before/after its blocks): ~90 ns or ~400 ns on
+the 2-core VM, whose two placements time multi-phase work differently.
 """
 import argparse
 import json
@@ -47,8 +49,14 @@ def paired_ratios(path):
     for b in data["benchmarks"]:
         parts = b.get("run_name", b["name"]).split("/")
         if len(parts) >= 3 and parts[0] == "BM_TessGlb_Paired" and "time_ratio" in b:
-            ratios[(parts[1], parts[2])] = b["time_ratio"]
+            trips = (b.get("core_round_trip_ns", 0), b.get("core_round_trip_after_ns", 0))
+            ratios[(parts[1], parts[2])] = (b["time_ratio"], trips)
     return ratios
+
+
+def trip_cell(*values):
+    """Core-to-core round trips in ns (machine_load.h), '-' where a run did not record one."""
+    return "/".join(f"{v:.0f}" if v > 0 else "-" for v in values)
 
 
 def milliseconds(b):
@@ -81,10 +89,10 @@ def main():
 
     print(f"Machine: {context.get('host_name', '?')}, {context.get('num_cpus', '?')} CPUs at "
           f"{context.get('mhz_per_cpu', '?')} MHz; run {context.get('date', '?')}.\n")
-    paired_head = " paired time ratio |" if paired else ""
+    paired_head = " paired time ratio | paired round trip ns |" if paired else ""
     print("| model | ε | Tessera triangles | oracle rate | oracle triangles | triangles ratio | "
-          f"Tessera ms | Bfr ms | time ratio |{paired_head} measured / ε | bound / ε | others_cpu |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|" + ("---:|" if paired else "") + "---:|---:|---:|")
+          f"Tessera ms | Bfr ms | time ratio | round trip ns |{paired_head} measured / ε | bound / ε | others_cpu |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|" + ("---:|---:|" if paired else "") + "---:|---:|---:|")
     sums = [0.0, 0.0, 0.0, 0.0]
     over = []
     paired_over = []
@@ -106,15 +114,16 @@ def main():
         beyond = ">" if o.get("oracle_beyond", 0) else ""
         paired_cell = ""
         if paired:
-            ratio = paired.get((model, eps))
-            paired_cell = f" {mark(ratio, TIME_LIMIT)} |" if ratio is not None else " |"
+            ratio, trips = paired.get((model, eps), (None, (0, 0)))
+            paired_cell = (f" {mark(ratio, TIME_LIMIT)} | {trip_cell(*trips)} |" if ratio is not None else " | |")
             if ratio is not None and ratio > TIME_LIMIT:
                 paired_over.append(f"{model} {eps}")
+        trips = trip_cell(t.get("core_round_trip_ns", 0), o.get("core_round_trip_ns", 0))
         print(f"| {model} | {eps} | {tri:,.0f} | {beyond}{o['rate']:.0f} | {beyond}{otri:,.0f} | "
-              f"{mark(tri_ratio, TRIANGLE_LIMIT)} | {ms:.2f} | {oms:.2f} | {mark(time_ratio, TIME_LIMIT)} |{paired_cell} "
-              f"{measure:.2f} | {t['bound_over_eps']:.2f} | {busy:.2f} |")
+              f"{mark(tri_ratio, TRIANGLE_LIMIT)} | {ms:.2f} | {oms:.2f} | {mark(time_ratio, TIME_LIMIT)} | {trips} |"
+              f"{paired_cell} {measure:.2f} | {t['bound_over_eps']:.2f} | {busy:.2f} |")
     print(f"| **sum** | | {sums[0]:,.0f} | | {sums[1]:,.0f} | **{sums[0] / sums[1]:.2f}** | "
-          f"{sums[2]:.1f} | {sums[3]:.1f} | **{sums[2] / sums[3]:.2f}** |" + (" |" if paired else "") + " | | |")
+          f"{sums[2]:.1f} | {sums[3]:.1f} | **{sums[2] / sums[3]:.2f}** | |" + (" | |" if paired else "") + " | | |")
     if measures:
         print(f"\nMeasured error / ε: mean {sum(measures) / len(measures):.2f}, "
               f"max {max(measures):.2f} over {len(measures)} cases.")

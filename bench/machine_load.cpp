@@ -1,8 +1,14 @@
 #include "bench/machine_load.h"
 
+#include <pthread.h>
+#include <sched.h>
+
+#include <atomic>
+#include <chrono>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace tessera::bench {
 
@@ -38,6 +44,44 @@ double othersShare(const CpuSample& before, const CpuSample& after) {
   if (total <= 0) return 0.0;
   long long others = (after.machineBusy - before.machineBusy) - (after.self - before.self);
   return others < 0 ? 0.0 : double(others) / double(total);
+}
+
+namespace {
+
+bool pinToCore(int core) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(core, &set);
+  return pthread_setaffinity_np(pthread_self(), sizeof set, &set) == 0;
+}
+
+}  // namespace
+
+double coreRoundTripNs() {
+  if (std::thread::hardware_concurrency() < 2) return 0;
+  constexpr int kTrips = 20000;
+  alignas(64) std::atomic<int> turn{0};
+  std::thread partner([&turn] {
+    pinToCore(1);
+    for (int i = 0; i < kTrips; ++i) {
+      while (turn.load(std::memory_order_acquire) != 2 * i + 1) {
+      }
+      turn.store(2 * i + 2, std::memory_order_release);
+    }
+  });
+  cpu_set_t previous;
+  pthread_getaffinity_np(pthread_self(), sizeof previous, &previous);
+  pinToCore(0);
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < kTrips; ++i) {
+    turn.store(2 * i + 1, std::memory_order_release);
+    while (turn.load(std::memory_order_acquire) != 2 * i + 2) {
+    }
+  }
+  const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+  partner.join();
+  pthread_setaffinity_np(pthread_self(), sizeof previous, &previous);
+  return ns / kTrips;
 }
 
 }  // namespace tessera::bench

@@ -156,6 +156,7 @@ void tesseraGlb(benchmark::State& state, const std::string& name, double eps) {
   int64_t triangles = 0;
   double bound = 0, tolerance = 1;
   size_t bytes = 0;
+  const double roundTrip = coreRoundTripNs();
   const CpuSample before = sampleCpu();
   for (auto _ : state) {
     TessellationResult result = tessellate(m.patches, m.mesh, options);
@@ -166,6 +167,7 @@ void tesseraGlb(benchmark::State& state, const std::string& name, double eps) {
     benchmark::DoNotOptimize(glb.data());
   }
   state.counters["others_cpu"] = othersShare(before, sampleCpu());
+  state.counters["core_round_trip_ns"] = roundTrip;
   const OracleRate oracle = oracleRate(name, eps);
   state.counters["triangles"] = double(triangles);
   state.counters["oracle_triangles"] = double(oracle.triangles);
@@ -242,9 +244,11 @@ void osdBfrOracle(benchmark::State& state, const std::string& name, double eps) 
   const OracleRate oracle = oracleRate(name, eps);
   if (oracle.rate <= 0) return state.SkipWithError("no oracle rate in bench/oracle_rates.csv");
   BfrOracle bfr(model(name), oracle.rate);
+  const double roundTrip = coreRoundTripNs();
   const CpuSample before = sampleCpu();
   for (auto _ : state) bfr.run();
   state.counters["others_cpu"] = othersShare(before, sampleCpu());
+  state.counters["core_round_trip_ns"] = roundTrip;
   state.counters["rate"] = oracle.rate;
   state.counters["oracle_beyond"] = oracle.beyond;
   state.counters["triangles"] = double(bfr.triangles());
@@ -280,6 +284,7 @@ void pairedGlb(benchmark::State& state, const std::string& name, double eps) {
   const Model& m = model(name);
   const TessellationOptions options = optionsAt(eps);
   BfrOracle bfr(m, oracle.rate);
+  const double roundTripBefore = coreRoundTripNs();
   std::vector<double> tessera, osd, ratio;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
@@ -295,6 +300,9 @@ void pairedGlb(benchmark::State& state, const std::string& name, double eps) {
   state.counters["tessera_ms"] = median(tessera);
   state.counters["bfr_ms"] = median(osd);
   state.counters["time_ratio"] = median(ratio);
+  // Before and after the blocks: the VM can change between its two placements meanwhile.
+  state.counters["core_round_trip_ns"] = roundTripBefore;
+  state.counters["core_round_trip_after_ns"] = coreRoundTripNs();
 }
 
 const bool registered = [] {
