@@ -107,10 +107,17 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   }
   mesh.indices.resize(first[runs]);
   if (record) mesh.trianglePiece.resize(first[runs] / 3);
-  tbb::parallel_for(size_t(0), runs, [&](size_t r) {
+  auto copyRun = [&](size_t r) {
     std::copy(outputs[r].indices.begin(), outputs[r].indices.end(), mesh.indices.begin() + ptrdiff_t(first[r]));
     if (record) std::copy(tiles[r].begin(), tiles[r].end(), mesh.trianglePiece.begin() + ptrdiff_t(first[r] / 3));
-  });
+  };
+  // A few hundred kilobytes are copied in less time than a parallel region costs.
+  constexpr size_t kParallelCopy = size_t(1) << 16;
+  if (first[runs] < kParallelCopy) {
+    for (size_t r = 0; r < runs; ++r) copyRun(r);
+  } else {
+    tbb::parallel_for(size_t(0), runs, copyRun);
+  }
   return away;
 }
 
