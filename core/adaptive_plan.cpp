@@ -413,8 +413,10 @@ void Planner::emit(const Candidate& c, const Rates& grid, std::vector<Tile>& out
 
 // A node becomes a tile unless its four quadrants, each tessellated on its own, need enough fewer
 // triangles (one level of look-ahead, kSplitSaving); a node no grid can serve is always split.
+// Quadrants make at least two triangles each, so a grid of fewer than kSplitSaving + 8 cannot
+// be beaten and is emitted without looking ahead.
 void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const {
-  if ((grid.feasible() && grid.triangles() <= 8) || !splittable(c)) {
+  if ((grid.feasible() && grid.triangles() - 8 < kSplitSaving) || !splittable(c)) {
     if (grid.feasible()) return emit(c, grid, out);
     // Nothing finer exists (the deepest EV quadrant below kChainFloor): the finest grid, its
     // bound reported as it is.
