@@ -433,8 +433,10 @@ void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out
   for (int q = 0; q < 4; ++q) {
     childGrids[q] = gridFor(children[q]);
     childTriangles += childGrids[q].feasible() ? childGrids[q].triangles() : std::numeric_limits<int32_t>::max();
+    // The quadrants not planned yet make at least two triangles each: once even that leaves the
+    // saving under kSplitSaving, the node is the tile (the rest are not planned).
+    if (grid.feasible() && grid.triangles() - (childTriangles + 2 * (3 - q)) < kSplitSaving) return emit(c, grid, out);
   }
-  if (grid.feasible() && grid.triangles() - childTriangles < kSplitSaving) return emit(c, grid, out);
   const size_t first = out.size();
   for (int q = 0; q < 4; ++q) plan(children[q], childGrids[q], out);
   if (merging_) mergeCellwise(c, first, out);
