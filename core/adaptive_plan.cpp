@@ -568,7 +568,9 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
     roots.push_back({i, j});
     i = j;
   }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), chunkFor(roots.size(), 1, 16)), [&](const auto& range) {
+  // Chunks of 8 roots or more: a round that re-plans a few squares (the small creased shapes)
+  // does it on one thread, where a parallel region would cost more than the work.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), chunkFor(roots.size(), 8, 16)), [&](const auto& range) {
     const Planner planner(tree, patches, options);
     std::vector<Tile> replaced;
     for (size_t i = range.begin(); i != range.end(); ++i) {
