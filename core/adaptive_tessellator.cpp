@@ -40,15 +40,42 @@ void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, 
   }
 }
 
+// The runs' triangles one after the other into mesh.indices (and each triangle's tile into
+// mesh.trianglePiece when `record`); returns the runs' away corners (TileTriangleOutput) as
+// positions there. On all cores for large outputs: appended on one thread, the copy was 40 % of
+// triangulation on bigguy at 1e-4 and kept it from scaling on 16 cores.
+std::vector<uint32_t> concatenateRuns(const std::vector<TileTriangleOutput>& outputs,
+                                      const std::vector<std::vector<uint32_t>>& tiles, bool record, TriangleMesh& mesh) {
+  const size_t runs = outputs.size();
+  std::vector<size_t> first(runs + 1, 0);  // run r's indices start at first[r]
+  std::vector<uint32_t> away;
+  for (size_t r = 0; r < runs; ++r) {
+    first[r + 1] = first[r] + outputs[r].indices.size();
+    for (uint32_t corner : outputs[r].awayCorners) away.push_back(uint32_t(first[r]) + corner);
+  }
+  mesh.indices.resize(first[runs]);
+  if (record) mesh.trianglePiece.resize(first[runs] / 3);
+  auto copyRun = [&](size_t r) {
+    std::copy(outputs[r].indices.begin(), outputs[r].indices.end(), mesh.indices.begin() + ptrdiff_t(first[r]));
+    if (record) std::copy(tiles[r].begin(), tiles[r].end(), mesh.trianglePiece.begin() + ptrdiff_t(first[r] / 3));
+  };
+  // A few hundred kilobytes are copied in less time than a parallel region costs.
+  constexpr size_t kParallelCopy = size_t(1) << 16;
+  if (first[runs] < kParallelCopy) {
+    for (size_t r = 0; r < runs; ++r) copyRun(r);
+  } else {
+    tbb::parallel_for(size_t(0), runs, copyRun);
+  }
+  return away;
+}
+
 // Every vertex on the limit surface and every tile's triangles, on all cores. First the seam
 // vertices, which tiles of several roots share (the copies that carry another side's normal then
 // take their original's position bit for bit); then, run by run of roots, each root's own
 // vertices and at once its tiles' triangles, so that a root's vertices are triangulated by the
 // core that evaluated them, from its cache (the two were separate passes over all vertices and
-// all tiles). The runs' triangles are concatenated in order (with each triangle's tile when
-// `record`), also on all cores: appended on one thread, the copy was 40 % of triangulation on
-// bigguy at 1e-4 and kept it from scaling on 16 cores. Returns the corners facing against their
-// vertex normals (TileTriangleOutput), in order.
+// all tiles); then the runs concatenated in order. Returns the corners facing against their
+// vertex normals (TileTriangleOutput), as positions in mesh.indices.
 std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const AdaptiveSurface& surface,
                                              const AdaptivePlan& plan, const Stitching& stitching,
                                              const std::vector<uint32_t>& tileRoot, bool record, TriangleMesh& mesh,
@@ -99,26 +126,7 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
       if (record) tiles[r].insert(tiles[r].end(), (outputs[r].indices.size() - before) / 3, uint32_t(t));
     }
   });
-  std::vector<size_t> first(runs + 1, 0);  // run r's indices start at first[r]
-  std::vector<uint32_t> away;
-  for (size_t r = 0; r < runs; ++r) {
-    first[r + 1] = first[r] + outputs[r].indices.size();
-    for (uint32_t corner : outputs[r].awayCorners) away.push_back(uint32_t(first[r]) + corner);
-  }
-  mesh.indices.resize(first[runs]);
-  if (record) mesh.trianglePiece.resize(first[runs] / 3);
-  auto copyRun = [&](size_t r) {
-    std::copy(outputs[r].indices.begin(), outputs[r].indices.end(), mesh.indices.begin() + ptrdiff_t(first[r]));
-    if (record) std::copy(tiles[r].begin(), tiles[r].end(), mesh.trianglePiece.begin() + ptrdiff_t(first[r] / 3));
-  };
-  // A few hundred kilobytes are copied in less time than a parallel region costs.
-  constexpr size_t kParallelCopy = size_t(1) << 16;
-  if (first[runs] < kParallelCopy) {
-    for (size_t r = 0; r < runs; ++r) copyRun(r);
-  } else {
-    tbb::parallel_for(size_t(0), runs, copyRun);
-  }
-  return away;
+  return concatenateRuns(outputs, tiles, record, mesh);
 }
 
 // A face triangle's corners (core/face_triangles.h) in sub-face 0's coordinates unfolded past its

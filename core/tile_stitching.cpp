@@ -5,13 +5,12 @@
 
 #include <algorithm>
 #include <memory>
-#include <mutex>
 #include <numeric>
-#include <thread>
 
 #include "core/face_triangles.h"
 #include "core/line_points.h"
 #include "core/parallel_chunks.h"
+#include "core/scratch_pool.h"
 
 namespace tessera {
 
@@ -75,49 +74,25 @@ struct Arena {
   std::vector<PendingPoint> resolved;
   std::vector<uint32_t> endOf;
 
-  // Calls `f` on every vector.
-  template <typename F>
-  void forEachVector(F f) {
-    f(locals), f(pool), f(boundaryUses), f(linePool), f(ownPoints), f(inner), f(cornerId), f(innerUses);
-    f(innerKeys), f(line), f(resolved), f(endOf);
-    f(points.points), f(points.lo), f(points.hi), f(points.cell), f(points.order), f(points.byLo);
-    f(points.stretch), f(points.merged);
-  }
-};
-
-// Arenas kept from call to call: a request takes one for each thread that stitches for it and
-// gives them back emptied, their room kept, so that a small request's stitching allocates next
-// to nothing (growing fresh arenas was ~3 % of the creased torus at 1e-3). An arena holding more
-// than kKeptBytes is freed instead, and at most one a hardware thread is kept, so the room kept
-// stays a few megabytes.
-class ArenaPool {
- public:
-  std::unique_ptr<Arena> take() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (free_.empty()) return std::make_unique<Arena>();
-    std::unique_ptr<Arena> arena = std::move(free_.back());
-    free_.pop_back();
-    return arena;
-  }
-  void give(std::unique_ptr<Arena> arena) {
+  // Every vector emptied, its room kept; returns the bytes held (core/scratch_pool.h).
+  size_t clearKeepingRoom() {
     size_t bytes = 0;
-    arena->forEachVector([&bytes](auto& v) {
+    auto clear = [&bytes](auto& v) {
       bytes += v.capacity() * sizeof(v[0]);
       v.clear();
-    });
-    if (bytes > kKeptBytes) return;
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (free_.size() < std::max(1u, std::thread::hardware_concurrency())) free_.push_back(std::move(arena));
+    };
+    clear(locals), clear(pool), clear(boundaryUses), clear(linePool), clear(ownPoints), clear(inner);
+    clear(cornerId), clear(innerUses), clear(innerKeys), clear(line), clear(resolved), clear(endOf);
+    clear(points.points), clear(points.lo), clear(points.hi), clear(points.cell), clear(points.order);
+    clear(points.byLo), clear(points.stretch), clear(points.merged);
+    return bytes;
   }
-
- private:
-  static constexpr size_t kKeptBytes = size_t(4) << 20;
-  std::mutex mutex_;
-  std::vector<std::unique_ptr<Arena>> free_;
 };
 
-ArenaPool& arenaPool() {
-  static ArenaPool pool;
+// Arenas kept from call to call (growing fresh arenas every call was ~3 % of the creased torus at
+// 1e-3); over 4 MB, one is freed instead.
+ScratchPool<Arena>& arenaPool() {
+  static ScratchPool<Arena> pool(size_t(4) << 20);
   return pool;
 }
 
@@ -683,13 +658,9 @@ void Stitcher::splitNormals() {
       uint32_t vertex = original;
       if (claims[k].qualifier != keep) {
         vertex = uint32_t(out_.vertices.size());
-        const Tile& tile = plan_.tiles[claims[k].tile];
-        const int side = claims[k].side;
-        const double s = tile.size(), along = out_.sidePoints[claims[k].sidePoint].at;
-        const bool alongU = side == 0 || side == 2;
-        const double u = alongU ? (double(tile.ix) + along) * s : (double(tile.ix) + (side == 1)) * s;
-        const double v = alongU ? (double(tile.iy) + (side == 2)) * s : (double(tile.iy) + along) * s;
-        out_.vertices.push_back({claims[k].tile, u, v, original});
+        VertexRequest copy{claims[k].tile, 0, 0, original};
+        sidePoint(plan_.tiles[copy.tile], claims[k].side, out_.sidePoints[claims[k].sidePoint].at, copy.u, copy.v);
+        out_.vertices.push_back(copy);
       }
       for (size_t g = k; g < groupEnd; ++g) out_.sidePoints[claims[g].sidePoint].vertex = vertex;
       k = groupEnd;

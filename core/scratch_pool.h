@@ -1,0 +1,46 @@
+// Scratch room kept from call to call. A call takes one object for each thread that works for it
+// and gives them back emptied with their capacity kept, so that a small request's scratch is
+// neither allocated nor grown again. An object holding more than the pool's byte cap is freed
+// instead, and at most one per hardware thread is kept, so what is kept stays a few megabytes.
+// T::clearKeepingRoom() empties the object and returns the bytes it holds.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace tessera {
+
+template <typename T>
+class ScratchPool {
+ public:
+  explicit ScratchPool(size_t keptBytes) : keptBytes_(keptBytes) {}
+
+  std::unique_ptr<T> take() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      if (!free_.empty()) {
+        std::unique_ptr<T> object = std::move(free_.back());
+        free_.pop_back();
+        return object;
+      }
+    }
+    return std::make_unique<T>();
+  }
+
+  void give(std::unique_ptr<T> object) {
+    if (!object || object->clearKeepingRoom() > keptBytes_) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (free_.size() < std::max(1u, std::thread::hardware_concurrency())) free_.push_back(std::move(object));
+  }
+
+ private:
+  const size_t keptBytes_;
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<T>> free_;
+};
+
+}  // namespace tessera
