@@ -18,6 +18,13 @@ struct ChainPoint {
 };
 using Chain = SmallVector<ChainPoint, 24>;
 
+// Whether a triangle's face normal points against one of its vertex normals.
+bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, uint32_t c) {
+  const Vec3& pa = vertices.position(a);
+  const Vec3 n = cross(vertices.position(b) - pa, vertices.position(c) - pa);
+  return dot(n, vertices.normal(a)) < 0 || dot(n, vertices.normal(b)) < 0 || dot(n, vertices.normal(c)) < 0;
+}
+
 class TileTriangles {
  public:
   TileTriangles(const TriangulationVertices& vertices, uint32_t gridFirst, TileTriangleOutput& out)
@@ -340,11 +347,6 @@ void faceTriangle(const Stitching& stitching, size_t t, const Tile& tile, TileTr
 
 }  // namespace
 
-bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, uint32_t c) {
-  const Vec3& pa = vertices.position(a);
-  const Vec3 n = cross(vertices.position(b) - pa, vertices.position(c) - pa);
-  return dot(n, vertices.normal(a)) < 0 || dot(n, vertices.normal(b)) < 0 || dot(n, vertices.normal(c)) < 0;
-}
 
 void triangulateTile(const Stitching& stitching, size_t t, const Tile& tile, uint32_t gridFirst,
                      const TriangulationVertices& vertices, TileTriangleOutput& output) {

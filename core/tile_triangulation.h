@@ -23,9 +23,9 @@ struct TriangulationVertices {
   const Vec3& normal(uint32_t v) const { return normals[v]; }
 };
 
-// Triangles as vertex triples, and the corners (positions in `indices`) whose triangle faces
-// against that corner's vertex normal (facesAway, then per corner), which a fold shows as
-// (adaptive_tessellator.cpp): found while the triangles are made, where quads have them already.
+// Triangles as vertex triples, and the corners (positions in `indices`) whose vertex normal the
+// triangle's face normal points against, which is how a fold shows (adaptive_tessellator.cpp):
+// found while the triangles are made, where quads have the test already.
 struct TileTriangleOutput {
   std::vector<uint32_t> indices;
   std::vector<uint32_t> awayCorners;
@@ -35,8 +35,5 @@ struct TileTriangleOutput {
 // `gridFirst` on (row by row); positions and normals choose quads' diagonals.
 void triangulateTile(const Stitching& stitching, size_t t, const Tile& tile, uint32_t gridFirst,
                      const TriangulationVertices& vertices, TileTriangleOutput& output);
-
-// Whether a triangle's face normal points against one of its vertex normals.
-bool facesAway(const TriangulationVertices& vertices, uint32_t a, uint32_t b, uint32_t c);
 
 }  // namespace tessera
