@@ -45,11 +45,24 @@ enum class TriangleSubdivision : uint8_t {
   kSmooth,   // Loop-like weights that round triangles off (TRI_SUB_SMOOTH)
 };
 
+// Sdc's FVarLinearInterpolation: where texture coordinates (face-varying data) follow the control
+// polygon linearly instead of being smoothed as positions are. Listed with OpenSubdiv's default
+// first, so encodings written before UVs were accepted read back as it.
+enum class UvInterpolation : uint8_t {
+  kAll,           // linear everywhere (FVAR_LINEAR_ALL, OpenSubdiv's default)
+  kNone,          // smooth everywhere, boundaries included (FVAR_LINEAR_NONE)
+  kCornersOnly,   // smooth, with UV-boundary corners kept (FVAR_LINEAR_CORNERS_ONLY)
+  kCornersPlus1,  // ... and junctions of 3+ UV regions (FVAR_LINEAR_CORNERS_PLUS1)
+  kCornersPlus2,  // ... and concave corners (FVAR_LINEAR_CORNERS_PLUS2)
+  kBoundaries,    // linear along UV boundaries (FVAR_LINEAR_BOUNDARIES)
+};
+
 // The Sdc options a mesh carries besides its tags (OpenSubdiv's defaults unless the source says).
 struct SubdivisionRules {
   BoundaryInterpolation boundary = BoundaryInterpolation::kEdgeOnly;
   CreaseMethod creaseMethod = CreaseMethod::kUniform;
   TriangleSubdivision triangleSubdivision = TriangleSubdivision::kCatmark;
+  UvInterpolation uvInterpolation = UvInterpolation::kAll;
   friend bool operator==(const SubdivisionRules&, const SubdivisionRules&) = default;
 };
 
@@ -61,7 +74,12 @@ struct ControlMesh {
   std::vector<CornerVertex> corners;
   std::vector<int> holes;  // face indices that are holes (not part of the surface)
   SubdivisionRules rules;
+  // Texture coordinates, face-varying as OBJ's vt: (u, v) pairs, and per face corner (in the
+  // order of faceVertices) the index of its pair. Both empty when the mesh has none.
+  std::vector<float> uvs;
+  std::vector<int> uvIndices;
 
+  bool hasUvs() const { return !uvIndices.empty(); }
   int vertexCount() const { return static_cast<int>(positions.size()); }
   int faceCount() const { return static_cast<int>(faceSizes.size()); }
 };

@@ -85,7 +85,7 @@ std::string encodeCanonicalMesh(const ControlMesh& mesh) {
   Writer w;
   w.reserve(kMagic.size() + 4 + 6 * 8 + 12 * mesh.positions.size() + 4 * mesh.faceSizes.size() +
             4 * mesh.faceVertices.size() + 12 * mesh.creases.size() + 8 * mesh.corners.size() +
-            4 * mesh.holes.size());
+            4 * mesh.holes.size() + 16 + 4 * mesh.uvs.size() + 4 * mesh.uvIndices.size());
   w.bytes(kMagic);
   w.u32(rulesCode(mesh.rules));
   w.u64(mesh.positions.size());
@@ -106,6 +106,13 @@ std::string encodeCanonicalMesh(const ControlMesh& mesh) {
   }
   w.u64(mesh.holes.size());
   for (int f : mesh.holes) w.i32(f);
+  // UVs only when there are any, so meshes without them keep the encoding (and sha256) they had.
+  if (mesh.hasUvs()) {
+    w.u64(mesh.uvs.size());
+    for (float c : mesh.uvs) w.f32(c);
+    w.u64(mesh.uvIndices.size());
+    for (int i : mesh.uvIndices) w.i32(i);
+  }
   return w.take();
 }
 
@@ -132,6 +139,12 @@ ControlMesh decodeCanonicalMesh(std::string_view bytes) {
   }
   mesh.holes.resize(r.count(4));
   for (int& f : mesh.holes) f = r.i32();
+  if (!r.atEnd()) {
+    mesh.uvs.resize(r.count(4));
+    for (float& c : mesh.uvs) c = r.f32();
+    mesh.uvIndices.resize(r.count(4));
+    for (int& i : mesh.uvIndices) i = r.i32();
+  }
   if (!r.atEnd()) throw MeshDecodeError("mesh encoding: trailing bytes");
   return mesh;
 }
@@ -140,7 +153,8 @@ size_t meshHeapBytes(const ControlMesh& mesh) {
   return sizeof(ControlMesh) + mesh.positions.capacity() * sizeof(Vec3) +
          mesh.faceSizes.capacity() * sizeof(int) + mesh.faceVertices.capacity() * sizeof(int) +
          mesh.creases.capacity() * sizeof(CreaseEdge) +
-         mesh.corners.capacity() * sizeof(CornerVertex) + mesh.holes.capacity() * sizeof(int);
+         mesh.corners.capacity() * sizeof(CornerVertex) + mesh.holes.capacity() * sizeof(int) +
+         mesh.uvs.capacity() * sizeof(float) + mesh.uvIndices.capacity() * sizeof(int);
 }
 
 }  // namespace tessera

@@ -256,6 +256,35 @@ void checkHoles(const ControlMesh& mesh) {
   }
 }
 
+// Texture coordinates: one index per face corner when there are any, each naming a finite pair.
+void checkUvs(const ControlMesh& mesh) {
+  if (mesh.uvs.size() % 2 != 0) throwInvalid("the UVs hold " + std::to_string(mesh.uvs.size()) + " numbers; u and v come in pairs");
+  if (mesh.uvIndices.empty()) {
+    if (!mesh.uvs.empty()) throwInvalid("the mesh has UVs but no face corner uses one (UV indices missing)");
+    return;
+  }
+  if (mesh.uvIndices.size() != mesh.faceVertices.size()) {
+    throwInvalid("the mesh has " + std::to_string(mesh.uvIndices.size()) + " UV indices for " +
+                 std::to_string(mesh.faceVertices.size()) + " face corners; every corner needs one");
+  }
+  for (size_t i = 0; i < mesh.uvs.size(); ++i) {
+    if (!std::isfinite(mesh.uvs[i])) {
+      throwInvalid("UV " + std::to_string(i / 2) + " has a coordinate that is not finite (" + formatNumber(mesh.uvs[i]) + ")");
+    }
+  }
+  const int64_t count = int64_t(mesh.uvs.size() / 2);
+  size_t corner = 0;
+  for (int face = 0; face < mesh.faceCount(); ++face) {
+    for (int k = 0; k < mesh.faceSizes[face]; ++k, ++corner) {
+      const int uv = mesh.uvIndices[corner];
+      if (uv < 0 || uv >= count) {
+        throwInvalid("face " + std::to_string(face) + " corner " + std::to_string(k) + " uses UV " + std::to_string(uv) +
+                     ", but the mesh has " + std::to_string(count) + " UVs");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 void validateControlMesh(const ControlMesh& mesh, const MeshLimits& limits) {
@@ -267,6 +296,7 @@ void validateControlMesh(const ControlMesh& mesh, const MeshLimits& limits) {
   checkCreases(mesh);
   checkCorners(mesh);
   checkHoles(mesh);
+  checkUvs(mesh);
 }
 
 }  // namespace tessera

@@ -31,11 +31,11 @@ using obj_detail::parseInt;
 using obj_detail::quoted;
 using obj_detail::SourceLine;
 
-// Statements that carry nothing a control mesh keeps: texture coordinates, normals, grouping,
-// smoothing groups, materials and render attributes.
+// Statements that carry nothing a control mesh keeps: normals, grouping, smoothing groups,
+// materials and render attributes.
 bool isSkippedStatement(std::string_view keyword) {
   static constexpr std::string_view kSkipped[] = {
-      "vt",       "vn",       "o",          "g",         "s",     "mg",
+      "vn",       "o",          "g",         "s",     "mg",
       "usemtl",   "mtllib",   "usemap",     "maplib",    "lod",   "bevel",
       "c_interp", "d_interp", "shadow_obj", "trace_obj", "ctech", "stech"};
   return std::find(std::begin(kSkipped), std::end(kSkipped), keyword) != std::end(kSkipped);
@@ -65,6 +65,9 @@ class ObjParser {
 
  private:
   void parseVertex(LineTokens& tokens, const SourceLine& at);
+  void parseTextureVertex(LineTokens& tokens, const SourceLine& at);
+  int textureIndex(std::string_view afterSlash, const SourceLine& at);
+  void keepUvsOfEveryCornerOrNone();
   float coordinate(std::string_view token, const char* axis, const SourceLine& at) const;
   void parseFace(LineTokens& tokens, const SourceLine& at);
   int faceVertexIndex(std::string_view token, const SourceLine& at);
@@ -80,6 +83,11 @@ class ObjParser {
   // end; the line of the largest one is kept for the message.
   int largestIndex_ = -1;
   int largestIndexLine_ = 0;
+  // Texture coordinates: per corner its vt (−1: none), the first face without one, and the line
+  // of the largest vt index (range-checked at the end, as vertices are).
+  std::vector<int> cornerUvs_;
+  int firstFaceWithoutUv_ = -1, firstFaceWithoutUvLine_ = 0, firstFaceWithUvLine_ = 0;
+  int largestUv_ = -1, largestUvLine_ = 0;
 };
 
 void ObjParser::parseLine(std::string_view line, int lineNumber) {
@@ -89,6 +97,7 @@ void ObjParser::parseLine(std::string_view line, int lineNumber) {
   if (!tokens.next(keyword)) return;
   const SourceLine at{source_, lineNumber};
   if (keyword == "v") return parseVertex(tokens, at);
+  if (keyword == "vt") return parseTextureVertex(tokens, at);
   if (keyword == "f") return parseFace(tokens, at);
   if (keyword == "t") return tags_.apply(tokens, at, mesh_);
   if (isSkippedStatement(keyword)) return;
@@ -126,6 +135,22 @@ void ObjParser::parseVertex(LineTokens& tokens, const SourceLine& at) {
   mesh_.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
 }
 
+// "vt u [v [w]]": v defaults to 0 (OBJ); w, for 3D textures, is read and dropped.
+void ObjParser::parseTextureVertex(LineTokens& tokens, const SourceLine& at) {
+  if (static_cast<int64_t>(mesh_.uvs.size() / 2) >= limits_.maxVertices) {
+    failLimit(at, "more than " + std::to_string(limits_.maxVertices) + " texture vertices (the limit)");
+  }
+  float uvw[3] = {0.0f, 0.0f, 0.0f};
+  static constexpr const char* kAxes[] = {"u", "v", "w"};
+  int read = 0;
+  for (std::string_view token; read < 3 && tokens.next(token); ++read) uvw[read] = coordinate(token, kAxes[read], at);
+  std::string_view extra;
+  if (read == 0) failInvalid(at, "missing u coordinate: expected 'vt u [v [w]]'");
+  if (tokens.next(extra)) failInvalid(at, "unexpected " + quoted(extra) + " after the coordinates: expected 'vt u [v [w]]'");
+  mesh_.uvs.push_back(uvw[0]);
+  mesh_.uvs.push_back(uvw[1]);
+}
+
 float ObjParser::coordinate(std::string_view token, const char* axis, const SourceLine& at) const {
   float value = 0.0f;
   const NumberParse parsed = parseFloat(token, value);
@@ -152,6 +177,7 @@ void ObjParser::parseFace(LineTokens& tokens, const SourceLine& at) {
     failLimit(at, "more than " + std::to_string(limits_.maxFaces) + " faces (the limit)");
   }
   face_.clear();
+  const size_t cornersBefore = cornerUvs_.size();
   for (std::string_view token; tokens.next(token);) {
     if (static_cast<int64_t>(face_.size()) >= limits_.maxFaceSize) {
       failLimit(at, "face has more than " + std::to_string(limits_.maxFaceSize) +
@@ -164,12 +190,18 @@ void ObjParser::parseFace(LineTokens& tokens, const SourceLine& at) {
                         (face_.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed");
   }
   requireDistinctVertices(at);
+  const bool withUvs = cornerUvs_[cornersBefore] >= 0;
+  for (size_t c = cornersBefore; c < cornerUvs_.size(); ++c) {
+    if ((cornerUvs_[c] >= 0) != withUvs) failInvalid(at, "face gives texture coordinates for some corners but not all");
+  }
+  if (withUvs && firstFaceWithUvLine_ == 0) firstFaceWithUvLine_ = at.line;
+  if (!withUvs && firstFaceWithoutUv_ < 0) firstFaceWithoutUv_ = mesh_.faceCount(), firstFaceWithoutUvLine_ = at.line;
   mesh_.faceSizes.push_back(static_cast<int>(face_.size()));
   mesh_.faceVertices.insert(mesh_.faceVertices.end(), face_.begin(), face_.end());
 }
 
-// The texture and normal indices after the vertex index are not used, but must be well formed:
-// "vt", "/vn" or "vt/vn" after the first slash.
+// The texture and normal indices after the vertex index must be well formed: "vt", "/vn" or
+// "vt/vn" after the first slash (normals are not used: the limit surface has its own).
 bool isAttributeSyntax(std::string_view afterSlash) {
   const size_t slash = afterSlash.find('/');
   const std::string_view texture = afterSlash.substr(0, slash);
@@ -191,6 +223,7 @@ int ObjParser::faceVertexIndex(std::string_view token, const SourceLine& at) {
     failInvalid(at,
                 "face vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)");
   }
+  cornerUvs_.push_back(slash == std::string_view::npos ? -1 : textureIndex(token.substr(slash + 1), at));
   if (index > 0) {
     if (index - 1 > largestIndex_) {
       largestIndex_ = index - 1;
@@ -206,6 +239,47 @@ int ObjParser::faceVertexIndex(std::string_view token, const SourceLine& at) {
                         std::to_string(mesh_.positions.size()) + " vertices read so far)");
   }
   return static_cast<int>(resolved);
+}
+
+// The vt of "v/vt" or "v/vt/vn" (−1 for "v//vn"), 0-based; negative ones count back from the
+// latest vt read.
+int ObjParser::textureIndex(std::string_view afterSlash, const SourceLine& at) {
+  const std::string_view texture = afterSlash.substr(0, afterSlash.find('/'));
+  int index = 0;
+  if (texture.empty()) return -1;
+  parseInt(texture, index);  // well formed: checked with the rest of the token
+  if (index == 0) failInvalid(at, "texture vertex index 0 is invalid: OBJ indices start at 1 (or count back from -1)");
+  if (index > 0) {
+    if (index - 1 > largestUv_) largestUv_ = index - 1, largestUvLine_ = at.line;
+    return index - 1;
+  }
+  const int64_t resolved = static_cast<int64_t>(mesh_.uvs.size() / 2) + index;
+  if (resolved < 0) {
+    failInvalid(at, "relative texture vertex index " + std::to_string(index) + " reaches before the first texture vertex (" +
+                        std::to_string(mesh_.uvs.size() / 2) + " read so far)");
+  }
+  return static_cast<int>(resolved);
+}
+
+// A mesh has UVs when its faces name them; faces that name none beside faces that do leave the
+// UVs undefined there, which is refused rather than guessed.
+void ObjParser::keepUvsOfEveryCornerOrNone() {
+  const bool anyUv = firstFaceWithUvLine_ > 0;
+  if (!anyUv) {
+    mesh_.uvs.clear();
+    return;
+  }
+  if (firstFaceWithoutUv_ >= 0) {
+    failInvalid(SourceLine{source_, firstFaceWithoutUvLine_},
+                "face " + std::to_string(firstFaceWithoutUv_) + " has no texture coordinates, but the face on line " +
+                    std::to_string(firstFaceWithUvLine_) + " has: give every face UVs or none");
+  }
+  if (largestUv_ >= int64_t(mesh_.uvs.size() / 2)) {
+    failInvalid(SourceLine{source_, largestUvLine_}, "texture vertex index " + std::to_string(int64_t{largestUv_} + 1) +
+                                                         " is out of range: the file has " + std::to_string(mesh_.uvs.size() / 2) +
+                                                         " texture vertices");
+  }
+  mesh_.uvIndices = std::move(cornerUvs_);
 }
 
 void ObjParser::requireDistinctVertices(const SourceLine& at) {
@@ -226,6 +300,7 @@ ControlMesh ObjParser::finish() {
                     " vertices");
   }
   tags_.checkReferences(mesh_, source_);
+  keepUvsOfEveryCornerOrNone();
   try {
     validateControlMesh(mesh_, limits_);
   } catch (const TesseraError& error) {

@@ -1,5 +1,7 @@
 #include "core/subdivision_rules.h"
 
+#include <iterator>
+
 namespace tessera {
 
 uint32_t boundaryCode(BoundaryInterpolation boundary) {
@@ -16,18 +18,21 @@ uint32_t boundaryCode(BoundaryInterpolation boundary) {
 
 uint32_t rulesCode(const SubdivisionRules& rules) {
   return boundaryCode(rules.boundary) | uint32_t(rules.creaseMethod) << 8 |
-         uint32_t(rules.triangleSubdivision) << 16;
+         uint32_t(rules.triangleSubdivision) << 16 | uint32_t(rules.uvInterpolation) << 24;
 }
 
 std::optional<SubdivisionRules> rulesFromCode(uint32_t code) {
-  const uint32_t boundary = code & 0xff, crease = code >> 8 & 0xff, triangles = code >> 16;
-  if (boundary < 1 || boundary > 3 || crease > 1 || triangles > 1) return std::nullopt;
+  const uint32_t boundary = code & 0xff, crease = code >> 8 & 0xff, triangles = code >> 16 & 0xff, uvs = code >> 24;
+  if (boundary < 1 || boundary > 3 || crease > 1 || triangles > 1 || uvs > uint32_t(UvInterpolation::kBoundaries)) {
+    return std::nullopt;
+  }
   SubdivisionRules rules;
   rules.boundary = boundary == 1   ? BoundaryInterpolation::kEdgeOnly
                    : boundary == 2 ? BoundaryInterpolation::kEdgeAndCorner
                                    : BoundaryInterpolation::kNone;
   rules.creaseMethod = CreaseMethod(crease);
   rules.triangleSubdivision = TriangleSubdivision(triangles);
+  rules.uvInterpolation = UvInterpolation(uvs);
   return rules;
 }
 
@@ -49,6 +54,19 @@ std::string_view creaseMethodName(CreaseMethod method) {
 
 std::string_view triangleSubdivisionName(TriangleSubdivision rule) {
   return rule == TriangleSubdivision::kSmooth ? "smooth" : "catmark";
+}
+
+namespace {
+constexpr std::string_view kUvInterpolationNames[] = {"all", "none", "corners-only", "corners-plus1", "corners-plus2", "boundaries"};
+}  // namespace
+
+std::string_view uvInterpolationName(UvInterpolation rule) { return kUvInterpolationNames[size_t(rule)]; }
+
+std::optional<UvInterpolation> parseUvInterpolation(std::string_view name) {
+  for (size_t i = 0; i < std::size(kUvInterpolationNames); ++i) {
+    if (name == kUvInterpolationNames[i]) return UvInterpolation(i);
+  }
+  return std::nullopt;
 }
 
 }  // namespace tessera
