@@ -33,13 +33,25 @@ Sdc::Options::VtxBoundaryInterpolation sdcBoundary(BoundaryInterpolation boundar
   return Sdc::Options::VTX_BOUNDARY_EDGE_ONLY;
 }
 
+Sdc::Options::FVarLinearInterpolation sdcUvInterpolation(UvInterpolation rule) {
+  switch (rule) {
+    case UvInterpolation::kNone: return Sdc::Options::FVAR_LINEAR_NONE;
+    case UvInterpolation::kCornersOnly: return Sdc::Options::FVAR_LINEAR_CORNERS_ONLY;
+    case UvInterpolation::kCornersPlus1: return Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1;
+    case UvInterpolation::kCornersPlus2: return Sdc::Options::FVAR_LINEAR_CORNERS_PLUS2;
+    case UvInterpolation::kBoundaries: return Sdc::Options::FVAR_LINEAR_BOUNDARIES;
+    case UvInterpolation::kAll: break;
+  }
+  return Sdc::Options::FVAR_LINEAR_ALL;
+}
+
 // The mesh's rules, as Far and Bfr read them. Chaikin's rule and smooth triangles act only in
 // Far's refinement (docs/ADAPTIVE.md §9); VTX_BOUNDARY_NONE makes Far tag the faces at a
 // boundary vertex as holes.
 Sdc::Options subdivisionOptions(const ControlMesh& mesh) {
   Sdc::Options options;
   options.SetVtxBoundaryInterpolation(sdcBoundary(mesh.rules.boundary));
-  options.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
+  options.SetFVarLinearInterpolation(sdcUvInterpolation(mesh.rules.uvInterpolation));
   options.SetCreasingMethod(mesh.rules.creaseMethod == CreaseMethod::kChaikin
                                 ? Sdc::Options::CREASE_CHAIKIN
                                 : Sdc::Options::CREASE_UNIFORM);
@@ -51,7 +63,7 @@ Sdc::Options subdivisionOptions(const ControlMesh& mesh) {
 
 }  // namespace
 
-std::unique_ptr<Far::TopologyRefiner> createTopologyRefiner(const ControlMesh& mesh) {
+std::unique_ptr<Far::TopologyRefiner> createTopologyRefiner(const ControlMesh& mesh, bool withUvs) {
   std::vector<int> creasePairs;
   std::vector<float> creaseWeights;
   for (const CreaseEdge& crease : mesh.creases) {
@@ -79,6 +91,13 @@ std::unique_ptr<Far::TopologyRefiner> createTopologyRefiner(const ControlMesh& m
   descriptor.cornerWeights = cornerWeights.data();
   descriptor.numHoles = static_cast<int>(mesh.holes.size());
   descriptor.holeIndices = mesh.holes.data();
+  Far::TopologyDescriptor::FVarChannel uvChannel;
+  if (withUvs && mesh.hasUvs()) {
+    uvChannel.numValues = int(mesh.uvs.size() / 2);
+    uvChannel.valueIndices = mesh.uvIndices.data();
+    descriptor.numFVarChannels = 1;
+    descriptor.fvarChannels = &uvChannel;
+  }
 
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   Factory::Options options(Sdc::SCHEME_CATMARK, subdivisionOptions(mesh));

@@ -15,7 +15,8 @@ namespace tessera {
 
 namespace Far = OpenSubdiv::Far;
 
-std::unique_ptr<Far::TopologyRefiner> createTopologyRefiner(const ControlMesh& mesh);
+// withUvs: with the mesh's UVs as face-varying channel 0 (the patch set's refiner has none).
+std::unique_ptr<Far::TopologyRefiner> createTopologyRefiner(const ControlMesh& mesh, bool withUvs = false);
 
 // Positions of every vertex of every refined level, levels concatenated (Far's numbering with
 // the base level included), computed in double precision.

@@ -82,6 +82,14 @@ View ownedViewOf(const std::vector<T>& values, int target = kArrayBuffer) {
   return view;
 }
 
+// Texture coordinates, (u, v) floats per vertex: glTF's TEXCOORD_0 (float in every encoding,
+// which KHR_mesh_quantization allows).
+View uvView(const std::vector<float>& uvs) {
+  View view = viewOf(uvs);
+  view.stride = 2 * sizeof(float), view.count = uvs.size() / 2;
+  return view;
+}
+
 View indexView(const std::vector<uint32_t>& indices, size_t vertices) {
   if (!fitsShortIndices(vertices)) return viewOf(indices, kElementArrayBuffer);
   View view;
@@ -120,7 +128,7 @@ void compressTriangles(View& view, const std::vector<uint32_t>& indices, size_t 
 // triangles ordered for the vertex cache and vertices in first-use order, which is what its codecs
 // compress well (the same triangles over the same vertices).
 struct Stored {
-  std::vector<View> views;  // positions, normals, indices
+  std::vector<View> views;  // positions, normals, indices, and texture coordinates when the mesh has them
   int positionType = kFloat, normalType = kFloat;
   std::array<double, 3> positionMin{}, positionMax{};
 };
@@ -142,6 +150,7 @@ Stored storePlain(const TriangleMesh& mesh) {
   stored.views.push_back(viewOf(mesh.positions));
   stored.views.push_back(viewOf(mesh.normals));
   stored.views.push_back(indexView(mesh.indices, mesh.positions.size()));
+  if (!mesh.uvs.empty()) stored.views.push_back(uvView(mesh.uvs));
   return stored;
 }
 
@@ -188,11 +197,20 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   View index = indexView(indices, stored);
   if (compress && index.owned.empty() && index.shortIndices.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
   result.views.push_back(std::move(index));
+  if (!mesh.uvs.empty()) {
+    std::vector<float> uvs(2 * stored);
+    for (size_t k = 0; k < stored; ++k) uvs[2 * k] = mesh.uvs[2 * order[k]], uvs[2 * k + 1] = mesh.uvs[2 * order[k] + 1];
+    View view = uvView(uvs);
+    view.owned.assign(view.data, view.data + view.size);
+    view.data = view.owned.data();
+    result.views.push_back(std::move(view));
+  }
   if (compress) {
     useSpecifiedCodecVersions();
     compressAttributes(result.views[0]);
     compressAttributes(result.views[1]);
     compressTriangles(result.views[2], indices, stored);
+    if (result.views.size() > 3) compressAttributes(result.views[3]);
   }
   return result;
 }
@@ -266,7 +284,12 @@ void writeAccessors(const Stored& stored, JsonChunk& json) {
   json.key("type").string("VEC3").raw("}");
   const View& indices = stored.views[2];
   writeAccessor(json, 2, indices.stride == 2 ? kUnsignedShort : kUnsignedInt, indices.count);
-  json.key("type").string("SCALAR").raw("}]");
+  json.key("type").string("SCALAR").raw("}");
+  if (stored.views.size() > 3) {
+    writeAccessor(json, 3, kFloat, stored.views[3].count);
+    json.key("type").string("VEC2").raw("}");
+  }
+  json.raw("]");
 }
 
 void writeBufferViews(const Stored& stored, bool compressed, size_t binBytes, JsonChunk& json) {
@@ -298,7 +321,8 @@ void writeBufferViews(const Stored& stored, bool compressed, size_t binBytes, Js
 }
 
 // The JSON chunk: one scene, one node (carrying the quantization grid's translation and scale),
-// one mesh whose primitive reads positions, normals and indices from three views.
+// one mesh whose primitive reads positions, normals and indices from three views (and texture
+// coordinates from a fourth).
 std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
   const std::string& name = options.description.sourceName;
   const bool compressed = options.encoding == GlbEncoding::kMeshopt;
@@ -319,7 +343,9 @@ std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binB
     json.raw("]");
   }
   json.key("meshes").raw("[{").key("name").string(name).key("primitives").raw("[{");
-  json.key("attributes").raw("{").key("NORMAL").number(1).key("POSITION").number(0).raw("}");
+  json.key("attributes").raw("{").key("NORMAL").number(1).key("POSITION").number(0);
+  if (stored.views.size() > 3) json.key("TEXCOORD_0").number(3);
+  json.raw("}");
   json.key("indices").number(2).key("mode").number(kTriangles).raw("}]}]");
   json.key("nodes").raw("[{").key("mesh").number(0).key("name").string(name);
   if (options.positions) {
@@ -353,6 +379,7 @@ GlbEncoding parseGlbEncoding(const std::string& name) {
 
 std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& options) {
   if (mesh.normals.size() != mesh.positions.size()) throwInvalid("could not write the GLB: normals and positions differ in count");
+  if (!mesh.uvs.empty() && mesh.uvs.size() != 2 * mesh.positions.size()) throwInvalid("could not write the GLB: UVs and positions differ in count");
   const Stored stored = options.encoding == GlbEncoding::kFloat ? storePlain(mesh) : storeQuantized(mesh, options);
   size_t binBytes = 0;
   for (const View& view : stored.views) binBytes += padded(view.compressed.empty() ? view.size : view.compressed.size());
@@ -475,7 +502,8 @@ class AccessorReader {
     componentType_ = int(number(accessor, "componentType"));
     normalized_ = accessor.value("normalized", false);
     count_ = number(accessor, "count");
-    const size_t element = componentBytes(componentType_) * (std::string(type) == "VEC3" ? 3 : 1);
+    const std::string name = type;
+    const size_t element = componentBytes(componentType_) * (name == "VEC3" ? 3 : name == "VEC2" ? 2 : 1);
     if (accessor.value("type", "") != type || element == 0) throwInvalid("GLB " + what + " accessor has an unexpected type");
     const size_t view = number(accessor, "bufferView");
     bytes_ = viewBytes(file, view, what);
@@ -560,6 +588,13 @@ TriangleMesh readGlb(const std::vector<uint8_t>& bytes) {
   mesh.normals.resize(normals.count());
   for (size_t k = 0; k < normals.count(); ++k) {
     mesh.normals[k] = Vec3(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
+  }
+  const auto attributes = primitive.find("attributes");
+  if (attributes != primitive.end() && attributes->contains("TEXCOORD_0")) {
+    const AccessorReader uvs(file, attribute(primitive, "TEXCOORD_0"), "VEC2", "texture coordinate");
+    if (uvs.count() != positions.count()) throwInvalid("GLB has " + std::to_string(uvs.count()) + " texture coordinates for " + std::to_string(positions.count()) + " vertices");
+    mesh.uvs.resize(2 * uvs.count());
+    for (size_t k = 0; k < uvs.count(); ++k) mesh.uvs[2 * k] = uvs.component(k, 0), mesh.uvs[2 * k + 1] = uvs.component(k, 1);
   }
   mesh.indices.resize(indices.count());
   for (size_t k = 0; k < indices.count(); ++k) {

@@ -1,5 +1,5 @@
 // glTF 2.0 binary (GLB) output: one node, one mesh, one primitive of indexed triangles with
-// positions and normals, the generator and version in the asset, and in asset.extras what the
+// positions, normals and, when the mesh has them, texture coordinates (TEXCOORD_0), the generator and version in the asset, and in asset.extras what the
 // file promises: the tolerance asked, the proven bound (encoding included) and the source mesh.
 // Three encodings (docs/GLB.md): float32 attributes; KHR_mesh_quantization (int16 positions on
 // the grid of core/position_quantization.h, int8 normals); and that again compressed with
@@ -42,7 +42,7 @@ struct GlbOptions {
 // Throws TesseraError (kInvalidInput) for a mesh it cannot write, kLimitExceeded past 4 GiB.
 std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& options);
 
-// Reads back positions (as a viewer dequantizes them), normals and indices of a GLB written by
+// Reads back positions (as a viewer dequantizes them), normals, UVs and indices of a GLB written by
 // writeGlb in any encoding (for tests and tools). Throws TesseraError on anything it does not
 // understand.
 TriangleMesh readGlb(const std::vector<uint8_t>& bytes);

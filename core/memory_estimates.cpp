@@ -14,6 +14,9 @@ constexpr int64_t kBytesPerSquaredValence = 4;          // rings of very high va
 constexpr int64_t kPreprocessingBytesPerFace = 2 << 10;
 constexpr int64_t kTessellationBytesPerTriangle = 448;  // up to 410 measured (uniform level 3)
 constexpr int64_t kTessellationBaseBytes = 16 << 20;
+// Not measured: the arrays UVs add, counted from their types with every vertex a seam copy
+// (triangle parameters 60, per-corner keys and queries 3 × 48, copies' position, normal, UV 32).
+constexpr int64_t kUvBytesPerTriangle = 256;
 
 }  // namespace
 
@@ -36,8 +39,8 @@ int64_t preprocessingBytes(const ControlMesh& mesh, int64_t refinedVertices) {
          kBytesPerSquaredValence * squared + kPreprocessingBytesPerFace * mesh.faceCount();
 }
 
-int64_t tessellationBytes(int64_t triangles) {
-  return kTessellationBaseBytes + kTessellationBytesPerTriangle * triangles;
+int64_t tessellationBytes(int64_t triangles, bool uvs) {
+  return kTessellationBaseBytes + (kTessellationBytesPerTriangle + (uvs ? kUvBytesPerTriangle : 0)) * triangles;
 }
 
 }  // namespace tessera

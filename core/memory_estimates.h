@@ -20,7 +20,8 @@ int64_t refinementBytes(int64_t refinedVertices);
 int64_t preprocessingBytes(const ControlMesh& mesh, int64_t refinedVertices);
 
 // tessellate() and writeGlb() for an output of `triangles` triangles, peak: the plan and seams,
-// the mesh with its per-vertex records, and the GLB.
-int64_t tessellationBytes(int64_t triangles);
+// the mesh with its per-vertex records, and the GLB; `uvs`: with the mesh's UVs (the triangles'
+// parameters, each vertex's UV and the seam copies).
+int64_t tessellationBytes(int64_t triangles, bool uvs = false);
 
 }  // namespace tessera

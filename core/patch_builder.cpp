@@ -14,6 +14,7 @@
 
 #include "core/adaptive_surface.h"
 #include "core/error.h"
+#include "core/limit_uvs.h"
 #include "core/far_topology.h"
 #include "core/ring_extraction.h"
 #include "core/manifold_check.h"
@@ -296,6 +297,7 @@ PatchSet PatchSetBuilder::build() {
   surface->rootSeams = RootSeams(surface->tree, surface->seams);
   surface->lines = SeamLines(surface->tree, surface->seams, mesh_.vertexCount());
   result_.adaptive = std::move(surface);
+  if (mesh_.hasUvs()) result_.uvs = std::make_shared<const LimitUvs>(mesh_);
   return std::move(result_);
 }
 

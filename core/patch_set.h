@@ -83,6 +83,7 @@ struct PatchSetStats {
 };
 
 struct AdaptiveSurface;  // core/adaptive_surface.h
+class LimitUvs;          // core/limit_uvs.h
 
 struct PatchSet {
   RegularPatches regular;
@@ -91,6 +92,8 @@ struct PatchSet {
   Vec3 boundsMin, boundsMax;
   // The surface tree and seams the adaptive tessellation plans over (built with the patch set).
   std::shared_ptr<const AdaptiveSurface> adaptive;
+  // The mesh's UVs on the limit surface; null when it has none.
+  std::shared_ptr<const LimitUvs> uvs;
 };
 
 // What building a patch set may cost. `checkpoint`, when given, is called between stages and for

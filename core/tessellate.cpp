@@ -8,6 +8,7 @@
 #include "core/adaptive_tessellator.h"
 #include "core/error.h"
 #include "core/tessellation_plan.h"
+#include "core/uv_seams.h"
 
 namespace tessera {
 
@@ -43,11 +44,53 @@ TessellationResult tessellateToTolerance(const PatchSet& patches, const Tessella
   return result;
 }
 
+TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh& mesh, const TessellationOptions& options);
+
+// Where each triangle corner lies in its base face: recorded so by the adaptive path; the uniform
+// path records (s, t) in each corner's piece, mapped here through the piece's domain.
+std::vector<UvQuery> cornerParameters(const TessellationResult& result) {
+  const TriangleMesh& mesh = result.mesh;
+  std::vector<UvQuery> corners(mesh.indices.size());
+  for (size_t c = 0; c < corners.size(); ++c) {
+    const double s = mesh.triangleST[2 * c], t = mesh.triangleST[2 * c + 1];
+    if (result.plan.pieces.empty()) {
+      corners[c] = {mesh.triangleFace[c / 3], mesh.triangleSubFace[c / 3], s, t};
+      continue;
+    }
+    const PatchDomain& domain = result.plan.pieces[mesh.trianglePiece[c / 3]].domain;
+    corners[c].face = domain.baseFace, corners[c].subFace = domain.subFace;
+    domain.map(s, t, corners[c].u, corners[c].v);
+  }
+  return corners;
+}
+
+// The parameters UVs needed, dropped again when the caller did not ask for them.
+void forgetParameters(TriangleMesh& mesh) {
+  for (auto* values : {&mesh.triangleFace, &mesh.triangleSubFace, &mesh.vertexFace, &mesh.vertexSubFace}) std::vector<int>().swap(*values);
+  for (auto* values : {&mesh.triangleST, &mesh.vertexUv}) std::vector<double>().swap(*values);
+  for (auto* values : {&mesh.trianglePiece, &mesh.vertexPoint}) std::vector<uint32_t>().swap(*values);
+}
+
 }  // namespace
 
+// A mesh with UVs is tessellated with its triangles' parameters recorded, where its UVs are
+// evaluated (core/uv_seams.h).
 TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
                               const TessellationOptions& options) {
   validateTessellationOptions(options);
+  if (!patches.uvs) return tessellateSurface(patches, mesh, options);
+  TessellationOptions recording = options;
+  recording.recordParameters = true;
+  TessellationResult result = tessellateSurface(patches, mesh, recording);
+  attachUvs(mesh, *patches.uvs, cornerParameters(result), result.mesh);
+  if (!options.recordParameters) forgetParameters(result.mesh);
+  result.summary.vertices = int64_t(result.mesh.positions.size());
+  return result;
+}
+
+namespace {
+
+TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh& mesh, const TessellationOptions& options) {
   if (options.uniformLevel == 0 && options.eta > 0 && patches.adaptive) return tessellateToTolerance(patches, options);
   auto start = std::chrono::steady_clock::now();
   TessellationPlan plan = planTessellation(patches, options);
@@ -76,5 +119,7 @@ TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
   result.plan = std::move(plan);
   return result;
 }
+
+}  // namespace
 
 }  // namespace tessera

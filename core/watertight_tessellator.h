@@ -18,12 +18,14 @@ struct TriangleMesh {
   std::vector<Vec3> positions;
   std::vector<Vec3> normals;
   std::vector<uint32_t> indices;  // counter-clockwise seen from the normal side
+  std::vector<float> uvs;         // u, v per vertex when the control mesh has UVs (core/uv_seams.h)
   // Where each vertex lies in the limit surface's parameterization (base face, quad sub-face or
   // -1, u, v): lets tests compare every vertex and triangle with an exact evaluator.
   std::vector<int> vertexFace, vertexSubFace;
   std::vector<double> vertexUv;  // u, v per vertex
-  // Adaptive path: the vertex whose position each vertex repeats bit for bit with a normal of its
-  // own (the other side of a crease or of a fold narrower than ε), itself otherwise. The adaptive
+  // The vertex whose position each vertex repeats bit for bit with a normal of its own (adaptive
+  // path: the other side of a crease or of a fold narrower than ε) or a UV of its own (any path:
+  // the other side of a UV seam), itself otherwise; empty when no vertex is a copy (uniform path). The adaptive
   // path fills these per-vertex records and trianglePiece only with recordParameters.
   std::vector<uint32_t> vertexPoint;
   std::vector<uint32_t> trianglePiece;  // the plan piece (adaptive: the tile) each triangle belongs to
