@@ -64,6 +64,15 @@ int64_t glbTriangles(const std::string& glb) {
   return json["accessors"][indices]["count"].get<int64_t>() / 3;
 }
 
+// Whether the GLB's primitive carries TEXCOORD_0 (the mesh's UVs).
+bool glbHasTexcoords(const std::string& glb) {
+  uint32_t jsonLength = 0;
+  if (glb.size() < 20) return false;
+  std::memcpy(&jsonLength, glb.data() + 12, 4);
+  auto json = nlohmann::json::parse(glb.substr(20, jsonLength), nullptr, false);
+  return !json.is_discarded() && json["meshes"][0]["primitives"][0]["attributes"].contains("TEXCOORD_0");
+}
+
 const std::string kTessellateCalls =
     "tessera_requests_total{method=\"/tessera.v1.TessellationService/Tessellate\",code=";
 
@@ -118,6 +127,8 @@ class TessellationEndToEnd : public StoreTest {
     EXPECT_TRUE(remote.glb == local) << "the streamed GLB differs from the CLI's";
     EXPECT_EQ(remote.summary->triangles(), cliTriangles);
     EXPECT_EQ(remote.summary->triangles(), glbTriangles(remote.glb));
+    // Every benchmark model's OBJ has texture coordinates: they come back as TEXCOORD_0.
+    EXPECT_TRUE(glbHasTexcoords(remote.glb));
   }
 
   std::unique_ptr<ServerProcess> server_;

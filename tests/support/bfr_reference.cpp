@@ -5,7 +5,7 @@ namespace tessera::testing {
 namespace Bfr = OpenSubdiv::Bfr;
 
 BfrReference::BfrReference(const ControlMesh& mesh, int approxLevel)
-    : refiner_(createTopologyRefiner(mesh)) {
+    : meshUvs_(mesh.uvs.begin(), mesh.uvs.end()), refiner_(createTopologyRefiner(mesh, /*withUvs=*/true)) {
   for (const Vec3& p : mesh.positions) meshPoints_.insert(meshPoints_.end(), {p.x, p.y, p.z});
   Bfr::SurfaceFactory::Options options;
   options.SetApproxLevelSmooth(approxLevel).SetApproxLevelSharp(approxLevel);
@@ -23,6 +23,31 @@ BfrReference::FaceSurface* BfrReference::surfaceOf(int face) {
   entry->patchPoints.resize(size_t(entry->surface.GetNumPatchPoints()) * 3);
   entry->surface.PreparePatchPoints(meshPoints_.data(), 3, entry->patchPoints.data(), 3);
   return (surfaces_[face] = std::move(entry)).get();
+}
+
+BfrReference::FaceSurface* BfrReference::uvSurfaceOf(int face) {
+  auto found = uvSurfaces_.find(face);
+  if (found != uvSurfaces_.end()) return found->second.get();
+  auto entry = std::make_unique<FaceSurface>();
+  if (!factory_->InitFaceVaryingSurface(face, &entry->surface, 0)) {
+    uvSurfaces_[face] = nullptr;
+    return nullptr;
+  }
+  entry->patchPoints.resize(size_t(entry->surface.GetNumPatchPoints()) * 2);
+  entry->surface.PreparePatchPoints(meshUvs_.data(), 2, entry->patchPoints.data(), 2);
+  return (uvSurfaces_[face] = std::move(entry)).get();
+}
+
+bool BfrReference::evaluateUv(int face, int subFace, double u, double v, double uv[2]) {
+  FaceSurface* s = uvSurfaceOf(face);
+  if (s == nullptr) return false;
+  double at[2] = {u, v};
+  if (subFace >= 0) {
+    const double sub[2] = {u, v};
+    s->surface.GetParameterization().ConvertNormalizedSubFaceToCoord(subFace, sub, at);
+  }
+  s->surface.Evaluate(at, s->patchPoints.data(), 2, uv);
+  return true;
 }
 
 bool BfrReference::evaluateFace(int face, int subFace, double u, double v, Vec3d& position,

@@ -24,6 +24,8 @@ class BfrReference {
   // Limit position at face parameter (u, v) of a base face (sub-face coordinates for n-gons).
   bool evaluateFace(int face, int subFace, double u, double v, Vec3d& position, Vec3d* du = nullptr,
                     Vec3d* dv = nullptr);
+  // The mesh's UVs (face-varying channel 0) at face parameter (u, v); false for a hole.
+  bool evaluateUv(int face, int subFace, double u, double v, double uv[2]);
 
  private:
   struct FaceSurface {
@@ -31,11 +33,12 @@ class BfrReference {
     std::vector<double> patchPoints;
   };
   FaceSurface* surfaceOf(int face);
+  FaceSurface* uvSurfaceOf(int face);
 
-  std::vector<double> meshPoints_;
+  std::vector<double> meshPoints_, meshUvs_;
   std::unique_ptr<Far::TopologyRefiner> refiner_;
   std::unique_ptr<OpenSubdiv::Bfr::RefinerSurfaceFactory<>> factory_;
-  std::map<int, std::unique_ptr<FaceSurface>> surfaces_;
+  std::map<int, std::unique_ptr<FaceSurface>> surfaces_, uvSurfaces_;
 };
 
 }  // namespace tessera::testing
