@@ -39,6 +39,7 @@ const Loaded& loaded(const std::string& name) {
   if (!entry) {
     entry = std::make_unique<Loaded>();
     entry->mesh = readObjFile(testing::modelsDir() + "/" + name + ".obj");
+    entry->mesh.uvs.clear(), entry->mesh.uvIndices.clear();  // geometry only (bench/GLB-RESULTS.md's figures)
     entry->patches = buildPatchSet(entry->mesh);
   }
   return *entry;

@@ -35,6 +35,7 @@ const LoadedModel& loadedModel(const std::string& name) {
     auto model = std::make_unique<LoadedModel>();
     model->name = name;
     model->mesh = readObjFile(tessModelsDir() + "/" + name + ".obj");
+    model->mesh.uvs.clear(), model->mesh.uvIndices.clear();  // geometry only, as the baselines
     model->patches = buildPatchSet(model->mesh);
     Vec3d lo(model->patches.boundsMin), hi(model->patches.boundsMax);
     Vec3d side = hi - lo;

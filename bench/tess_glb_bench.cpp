@@ -80,6 +80,9 @@ const Model& model(const std::string& name) {
   if (!entry) {
     entry = std::make_unique<Model>();
     entry->mesh = readObjFile(modelPath(name));
+    // Geometry only, as the baseline makes positions and normals (the models' own UVs would add
+    // their evaluation and seam copies to Tessera's side alone).
+    entry->mesh.uvs.clear(), entry->mesh.uvIndices.clear();
     entry->patches = buildPatchSet(entry->mesh);
     for (const Vec3& p : entry->mesh.positions) entry->points.insert(entry->points.end(), {p.x, p.y, p.z});
   }

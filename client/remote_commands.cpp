@@ -69,7 +69,7 @@ struct UploadArgs {
   std::string file;
   std::string name;
   std::string displayName;
-  std::string boundary, creaseMethod, triangles;
+  std::string boundary, creaseMethod, triangles, uvInterpolation;
 };
 
 int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
@@ -91,6 +91,12 @@ int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
     options.subdivision.set_triangle_subdivision(args.triangles == "smooth"
                                                      ? v1::TRIANGLE_SUBDIVISION_SMOOTH
                                                      : v1::TRIANGLE_SUBDIVISION_CATMARK);
+  }
+  if (const std::optional<UvInterpolation> rule = parseUvInterpolation(args.uvInterpolation)) {
+    // The proto lists the rules from LINEAR_NONE = 1 in the order UvInterpolation lists them
+    // after kAll; LINEAR_ALL is 6.
+    options.subdivision.set_uv_interpolation(*rule == UvInterpolation::kAll ? v1::UV_INTERPOLATION_LINEAR_ALL
+                                                                            : v1::UvInterpolation(int(*rule)));
   }
   auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
   grpc::ClientContext context;
@@ -222,6 +228,8 @@ void registerRemoteCommands(CLI::App& app, CommandContext& context) {
       ->check(CLI::IsMember({"uniform", "chaikin"}));
   up->add_option("--triangles", upload->triangles, "Triangle rule (default: the file's)")
       ->check(CLI::IsMember({"catmark", "smooth"}));
+  up->add_option("--uv-interpolation", upload->uvInterpolation, "How UVs are subdivided (OpenSubdiv's FVAR_LINEAR_*; default all)")
+      ->check(CLI::IsMember({"all", "none", "corners-only", "corners-plus1", "corners-plus2", "boundaries"}));
   up->callback([&context, endpoint, upload] { context.exitCode = runUpload(*endpoint, *upload); });
 
   auto pageSize = std::make_shared<int>(100);

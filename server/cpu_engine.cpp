@@ -11,7 +11,8 @@ namespace tessera::server {
 
 namespace {
 
-TessellationOptions optionsFor(const TessellationJob& job, const CancellationToken& cancel) {
+// `uvs`: the mesh has UVs, whose evaluation and seam copies the output's memory includes.
+TessellationOptions optionsFor(const TessellationJob& job, const CancellationToken& cancel, bool uvs) {
   TessellationOptions options;
   options.tolerance = job.tolerance > 0 ? job.tolerance : 1.0;
   options.eta = job.eta;
@@ -26,8 +27,8 @@ TessellationOptions optionsFor(const TessellationJob& job, const CancellationTok
   if (job.memory) {
     // The output's memory, reserved once the plan knows its triangles (and set again if
     // planning goes round again).
-    options.beforeOutput = [memory = job.memory, held = int64_t(0)](int64_t triangles) mutable {
-      memory->hold(held, tessellationBytes(triangles), "the output (" + std::to_string(triangles) + " triangles)");
+    options.beforeOutput = [memory = job.memory, uvs, held = int64_t(0)](int64_t triangles) mutable {
+      memory->hold(held, tessellationBytes(triangles, uvs), "the output (" + std::to_string(triangles) + " triangles)");
     };
   }
   return options;
@@ -55,7 +56,7 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
 
   progress("tessellating", 0.3);
   start = Clock::now();
-  TessellationOptions options = optionsFor(job, cancel);
+  TessellationOptions options = optionsFor(job, cancel, mesh.hasUvs());
   const std::optional<PositionQuantization> positions = reserveForEncoding(job.encoding, *patches, options);
   TessellationResult result = tessellate(*patches, mesh, options);
   output.summary.timings.push_back({"tessellate", seconds(start)});

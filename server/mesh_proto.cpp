@@ -46,6 +46,18 @@ void appendRange(size_t begin, size_t count, Add add) {
   for (size_t i = begin; i < begin + count; ++i) add(i);
 }
 
+v1::UvInterpolation uvInterpolationToProto(UvInterpolation rule) {
+  switch (rule) {
+    case UvInterpolation::kNone: return v1::UV_INTERPOLATION_LINEAR_NONE;
+    case UvInterpolation::kCornersOnly: return v1::UV_INTERPOLATION_LINEAR_CORNERS_ONLY;
+    case UvInterpolation::kCornersPlus1: return v1::UV_INTERPOLATION_LINEAR_CORNERS_PLUS1;
+    case UvInterpolation::kCornersPlus2: return v1::UV_INTERPOLATION_LINEAR_CORNERS_PLUS2;
+    case UvInterpolation::kBoundaries: return v1::UV_INTERPOLATION_LINEAR_BOUNDARIES;
+    case UvInterpolation::kAll: break;
+  }
+  return v1::UV_INTERPOLATION_LINEAR_ALL;
+}
+
 }  // namespace
 
 void toProto(const MeshMetadata& m, v1::Mesh* out) {
@@ -62,6 +74,7 @@ void toProto(const MeshMetadata& m, v1::Mesh* out) {
                                                            TriangleSubdivision::kSmooth
                                                        ? v1::TRIANGLE_SUBDIVISION_SMOOTH
                                                        : v1::TRIANGLE_SUBDIVISION_CATMARK);
+  out->mutable_options()->set_uv_interpolation(uvInterpolationToProto(m.rules.uvInterpolation));
   out->set_vertex_count(m.vertexCount);
   out->set_face_count(m.faceCount);
   out->set_face_vertex_count(m.faceVertexCount);
@@ -136,7 +149,9 @@ bool forEachArraysChunk(const ControlMesh& mesh, size_t maxBytes,
                     c->set_vertex(mesh.corners[i].vertex);
                     c->set_sharpness(mesh.corners[i].sharpness);
                   }) &&
-         sendRuns(mesh.holes.size(), [&](size_t i) { chunk.add_holes(mesh.holes[i]); });
+         sendRuns(mesh.holes.size(), [&](size_t i) { chunk.add_holes(mesh.holes[i]); }) &&
+         sendRuns(mesh.uvs.size(), [&](size_t i) { chunk.add_uvs(mesh.uvs[i]); }) &&
+         sendRuns(mesh.uvIndices.size(), [&](size_t i) { chunk.add_uv_indices(mesh.uvIndices[i]); });
 }
 
 }  // namespace tessera::server

@@ -25,7 +25,8 @@ constexpr int64_t kCornerBytes = 8;
 
 int64_t arraysBytes(const v1::MeshArrays& a) {
   return kScalarBytes *
-             (a.positions_size() + a.face_sizes_size() + a.face_vertices_size() + a.holes_size()) +
+             (a.positions_size() + a.face_sizes_size() + a.face_vertices_size() + a.holes_size() + a.uvs_size() +
+              a.uv_indices_size()) +
          kCreaseBytes * a.creases_size() + kCornerBytes * a.corners_size();
 }
 
@@ -66,6 +67,19 @@ std::optional<TriangleSubdivision> triangleSubdivisionFromProto(int value) {
       return TriangleSubdivision::kSmooth;
   }
   throwInvalidArgument(fmt::format("header.options.triangle_subdivision: unknown value {}", value));
+}
+
+std::optional<UvInterpolation> uvInterpolationFromProto(int value) {
+  switch (value) {
+    case v1::UV_INTERPOLATION_UNSPECIFIED: return std::nullopt;
+    case v1::UV_INTERPOLATION_LINEAR_NONE: return UvInterpolation::kNone;
+    case v1::UV_INTERPOLATION_LINEAR_CORNERS_ONLY: return UvInterpolation::kCornersOnly;
+    case v1::UV_INTERPOLATION_LINEAR_CORNERS_PLUS1: return UvInterpolation::kCornersPlus1;
+    case v1::UV_INTERPOLATION_LINEAR_CORNERS_PLUS2: return UvInterpolation::kCornersPlus2;
+    case v1::UV_INTERPOLATION_LINEAR_BOUNDARIES: return UvInterpolation::kBoundaries;
+    case v1::UV_INTERPOLATION_LINEAR_ALL: return UvInterpolation::kAll;
+  }
+  throwInvalidArgument(fmt::format("header.options.uv_interpolation: unknown value {}", value));
 }
 
 // core/ messages say what is wrong inside the mesh; the prefix says which upload part it is in.
@@ -128,6 +142,7 @@ void UploadAssembler::acceptHeader(const v1::UploadMeshHeader& header) {
   boundary_ = boundaryFromProto(header.options().boundary_interpolation());
   creaseMethod_ = creaseMethodFromProto(header.options().crease_method());
   triangleSubdivision_ = triangleSubdivisionFromProto(header.options().triangle_subdivision());
+  uvInterpolation_ = uvInterpolationFromProto(header.options().uv_interpolation());
   if (header.total_bytes() <= 0) {
     throwInvalidArgument(
         fmt::format("header.total_bytes: must be positive (got {})", header.total_bytes()));
@@ -167,6 +182,8 @@ void UploadAssembler::acceptArrays(const v1::MeshArrays& a) {
     arrays_.creases.push_back({c.v0(), c.v1(), c.sharpness()});
   for (const v1::Corner& c : a.corners()) arrays_.corners.push_back({c.vertex(), c.sharpness()});
   arrays_.holes.insert(arrays_.holes.end(), a.holes().begin(), a.holes().end());
+  arrays_.uvs.insert(arrays_.uvs.end(), a.uvs().begin(), a.uvs().end());
+  arrays_.uvIndices.insert(arrays_.uvIndices.end(), a.uv_indices().begin(), a.uv_indices().end());
 }
 
 AssembledUpload UploadAssembler::finish() {
@@ -221,6 +238,7 @@ void UploadAssembler::overrideRules(ControlMesh& mesh) const {
   if (boundary_) mesh.rules.boundary = *boundary_;
   if (creaseMethod_) mesh.rules.creaseMethod = *creaseMethod_;
   if (triangleSubdivision_) mesh.rules.triangleSubdivision = *triangleSubdivision_;
+  if (uvInterpolation_) mesh.rules.uvInterpolation = *uvInterpolation_;
 }
 
 }  // namespace tessera::server
