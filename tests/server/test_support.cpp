@@ -58,6 +58,14 @@ int32_t objIndex(const std::string& token, size_t vertexCount) {
   return value < 0 ? static_cast<int32_t>(vertexCount) + value : value - 1;
 }
 
+// The vt of an OBJ face token ("v/vt", "v/vt/vn"), 0-based; −1 for none.
+int32_t objUvIndex(const std::string& token, size_t uvCount) {
+  const size_t slash = token.find('/');
+  if (slash == std::string::npos || slash + 1 >= token.size() || token[slash + 1] == '/') return -1;
+  int value = std::stoi(token.substr(slash + 1));
+  return value < 0 ? static_cast<int32_t>(uvCount) + value : value - 1;
+}
+
 }  // namespace
 
 TempDir::TempDir() {
@@ -159,13 +167,20 @@ bool MeshArrays::operator==(const MeshArrays& o) const {
     }
     return true;
   };
+  auto sameUvs = [&] {
+    if (uvs.size() != o.uvs.size()) return false;
+    for (size_t i = 0; i < uvs.size(); ++i) {
+      if (std::bit_cast<uint32_t>(uvs[i]) != std::bit_cast<uint32_t>(o.uvs[i])) return false;
+    }
+    return uvIndices == o.uvIndices;
+  };
   return samePositions() && faceSizes == o.faceSizes && faceVertices == o.faceVertices &&
-         sameCreases() && sameCorners() && holes == o.holes;
+         sameCreases() && sameCorners() && holes == o.holes && sameUvs();
 }
 
 int64_t MeshArrays::uploadBytes() const {
   return 4 * static_cast<int64_t>(positions.size() + faceSizes.size() + faceVertices.size() +
-                                  holes.size()) +
+                                  holes.size() + uvs.size() + uvIndices.size()) +
          12 * static_cast<int64_t>(creases.size()) + 8 * static_cast<int64_t>(corners.size());
 }
 
@@ -192,14 +207,21 @@ MeshArrays parseObjVerticesAndFaces(const std::string& text) {
       float x, y, z;
       words >> x >> y >> z;
       mesh.positions.insert(mesh.positions.end(), {x, y, z});
+    } else if (kind == "vt") {
+      float u = 0, v = 0;
+      words >> u >> v;
+      mesh.uvs.insert(mesh.uvs.end(), {u, v});
     } else if (kind == "f") {
       int32_t size = 0;
       for (std::string token; words >> token; ++size) {
         mesh.faceVertices.push_back(objIndex(token, mesh.vertexCount()));
+        const int32_t uv = objUvIndex(token, mesh.uvs.size() / 2);
+        if (uv >= 0) mesh.uvIndices.push_back(uv);
       }
       mesh.faceSizes.push_back(size);
     }
   }
+  if (mesh.uvIndices.empty()) mesh.uvs.clear();  // vt no face uses carries nothing
   return mesh;
 }
 
@@ -243,6 +265,12 @@ std::string canonicalEncoding(const MeshArrays& m, uint32_t rules) {
   }
   appendLe(out, m.holes.size(), 8);
   for (int32_t h : m.holes) appendLe(out, static_cast<uint32_t>(h), 4);
+  if (!m.uvIndices.empty()) {  // only a mesh with UVs has them (mesh.proto)
+    appendLe(out, m.uvs.size(), 8);
+    for (float f : m.uvs) appendLe(out, std::bit_cast<uint32_t>(f), 4);
+    appendLe(out, m.uvIndices.size(), 8);
+    for (int32_t i : m.uvIndices) appendLe(out, static_cast<uint32_t>(i), 4);
+  }
   return out;
 }
 
@@ -309,6 +337,8 @@ std::vector<v1::UploadMeshRequest> arraysUpload(const std::string& id, const Mes
     corner->set_vertex(c.vertex), corner->set_sharpness(c.sharpness);
   }
   for (int32_t h : mesh.holes) a->add_holes(h);
+  for (float c : mesh.uvs) a->add_uvs(c);
+  for (int32_t i : mesh.uvIndices) a->add_uv_indices(i);
   messages.push_back(rest);
   return messages;
 }
@@ -348,6 +378,8 @@ MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc
     for (const auto& c : a.creases()) mesh.creases.push_back({c.v0(), c.v1(), c.sharpness()});
     for (const auto& c : a.corners()) mesh.corners.push_back({c.vertex(), c.sharpness()});
     mesh.holes.insert(mesh.holes.end(), a.holes().begin(), a.holes().end());
+    mesh.uvs.insert(mesh.uvs.end(), a.uvs().begin(), a.uvs().end());
+    mesh.uvIndices.insert(mesh.uvIndices.end(), a.uv_indices().begin(), a.uv_indices().end());
   }
   *status = reader->Finish();
   return mesh;

@@ -66,6 +66,8 @@ struct MeshArrays {
   std::vector<Crease> creases;
   std::vector<Corner> corners;
   std::vector<int32_t> holes;
+  std::vector<float> uvs;          // u, v per UV (OBJ vt)
+  std::vector<int32_t> uvIndices;  // per face corner, or empty
 
   bool operator==(const MeshArrays& other) const;
   size_t vertexCount() const { return positions.size() / 3; }
