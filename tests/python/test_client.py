@@ -17,6 +17,7 @@ import grpc
 import numpy as np
 
 from tessera_client import Camera, IntegrityError, TesseraClient, TesseraError, canonical_sha256
+from tessera_client._proto.tessera.v1 import mesh_pb2
 
 SERVER = os.environ["TESSERA_SERVER_BINARY"]
 SAMPLE = Path(os.environ["TESSERA_SAMPLE_OBJ"])
@@ -120,6 +121,24 @@ class ClientTest(unittest.TestCase):
         positions, sizes, faces, _ = grid_arrays(120)
         big = self.client.upload_arrays("grid-big", positions, sizes, faces)
         self.assertEqual(big.face_count, 120 * 120)
+
+    def test_uvs_upload_with_their_rule_and_come_back_as_texcoords(self):
+        positions, sizes, faces, _ = grid_arrays(4)
+        # One UV per vertex (x/4, y/4), the grid's own parameterization: continuous, no seams.
+        uvs = (positions[:, :2] / 4.0).astype(np.float32)
+        mesh = self.client.upload_arrays("grid-uv", positions, sizes, faces, uvs=uvs, uv_indices=faces,
+                                         uv_interpolation="corners_only")
+        self.assertEqual(mesh.options.uv_interpolation, mesh_pb2.UV_INTERPOLATION_LINEAR_CORNERS_ONLY)
+        self.assertEqual(mesh.sha256, canonical_sha256(positions.reshape(-1).tolist(), sizes.tolist(),
+                                                       faces.reshape(-1).tolist(), uvs=uvs.reshape(-1).tolist(),
+                                                       uv_indices=faces.reshape(-1).tolist(),
+                                                       uv_interpolation="corners_only"))
+        result = self.client.tessellate("grid-uv", relative=1e-3)
+        _, _, _, document = glb_triangles_and_box(result.glb)
+        attributes = document["meshes"][0]["primitives"][0]["attributes"]
+        self.assertIn("TEXCOORD_0", attributes)
+        texcoords = document["accessors"][attributes["TEXCOORD_0"]]
+        self.assertEqual(texcoords["count"], document["accessors"][attributes["POSITION"]]["count"])
 
     def test_tessellate_to_file_quantized_and_pixel(self):
         self.client.upload_obj("box-file", SAMPLE)

@@ -6,6 +6,8 @@ from array import array
 from typing import Iterable, Sequence, Tuple
 
 BOUNDARY_EDGE_ONLY = 1  # BOUNDARY_INTERPOLATION_EDGE_ONLY: what an ARRAYS upload gets unspecified
+# The UV rule as the encoding's rules word holds it in bits 24-31 (mesh.proto, Mesh.sha256).
+UV_RULE_CODES = {"all": 0, "none": 1, "corners_only": 2, "corners_plus1": 3, "corners_plus2": 4, "boundaries": 5}
 
 
 def _little_endian(values: array) -> bytes:
@@ -17,11 +19,13 @@ def _little_endian(values: array) -> bytes:
 
 def canonical_sha256(positions: Sequence[float], face_sizes: Sequence[int], face_vertices: Sequence[int],
                      creases: Iterable[Tuple[int, int, float]] = (), corners: Iterable[Tuple[int, float]] = (),
-                     holes: Sequence[int] = (), boundary: int = BOUNDARY_EDGE_ONLY) -> str:
-    """Lower-case hex SHA-256 of the canonical encoding of these arrays."""
+                     holes: Sequence[int] = (), boundary: int = BOUNDARY_EDGE_ONLY, uvs: Sequence[float] = (),
+                     uv_indices: Sequence[int] = (), uv_interpolation: str = "all") -> str:
+    """Lower-case hex SHA-256 of the canonical encoding of these arrays (UVs, u and v per UV with
+    one index per face corner, only when given)."""
     creases, corners = list(creases), list(corners)
     digest = hashlib.sha256()
-    digest.update(b"TSM1" + struct.pack("<I", boundary))
+    digest.update(b"TSM1" + struct.pack("<I", boundary | UV_RULE_CODES[uv_interpolation] << 24))
     digest.update(struct.pack("<Q", len(positions) // 3) + _little_endian(array("f", positions)))
     digest.update(struct.pack("<Q", len(face_sizes)) + _little_endian(array("i", face_sizes)))
     digest.update(struct.pack("<Q", len(face_vertices)) + _little_endian(array("i", face_vertices)))
@@ -32,4 +36,7 @@ def canonical_sha256(positions: Sequence[float], face_sizes: Sequence[int], face
     for vertex, sharpness in corners:
         digest.update(struct.pack("<if", vertex, sharpness))
     digest.update(struct.pack("<Q", len(holes)) + _little_endian(array("i", holes)))
+    if len(uv_indices):
+        digest.update(struct.pack("<Q", len(uvs)) + _little_endian(array("f", uvs)))
+        digest.update(struct.pack("<Q", len(uv_indices)) + _little_endian(array("i", uv_indices)))
     return digest.hexdigest()

@@ -31,6 +31,15 @@ _BOUNDARY = {
     "edge_only": mesh_pb2.BOUNDARY_INTERPOLATION_EDGE_ONLY,
     "edge_and_corner": mesh_pb2.BOUNDARY_INTERPOLATION_EDGE_AND_CORNER,
 }
+# Sdc's FVarLinearInterpolation by name (mesh.proto UvInterpolation).
+_UV_INTERPOLATION = {
+    "all": mesh_pb2.UV_INTERPOLATION_LINEAR_ALL,
+    "none": mesh_pb2.UV_INTERPOLATION_LINEAR_NONE,
+    "corners_only": mesh_pb2.UV_INTERPOLATION_LINEAR_CORNERS_ONLY,
+    "corners_plus1": mesh_pb2.UV_INTERPOLATION_LINEAR_CORNERS_PLUS1,
+    "corners_plus2": mesh_pb2.UV_INTERPOLATION_LINEAR_CORNERS_PLUS2,
+    "boundaries": mesh_pb2.UV_INTERPOLATION_LINEAR_BOUNDARIES,
+}
 _ENCODING = {
     "float": tessellation_pb2.GLB_ENCODING_FLOAT,
     "quantized": tessellation_pb2.GLB_ENCODING_QUANTIZED,
@@ -214,26 +223,33 @@ class TesseraClient:
     def upload_arrays(self, mesh_id: str, positions, face_sizes, face_vertices,
                       creases: Iterable[Tuple[int, int, float]] = (), corners: Iterable[Tuple[int, float]] = (),
                       holes: Sequence[int] = (), display_name: Optional[str] = None, boundary: Optional[str] = None,
+                      uvs=(), uv_indices=(), uv_interpolation: str = "all",
                       timeout: Optional[float] = None) -> mesh_pb2.Mesh:
         """Uploads a mesh as arrays (lists or NumPy arrays): positions x, y, z per vertex (any shape
         that flattens to that), face sizes, face vertices counter-clockwise, creases (v0, v1,
-        sharpness), corners (vertex, sharpness), hole faces. Checks the server's stored checksum
+        sharpness), corners (vertex, sharpness), hole faces, and optionally UVs (u, v per UV) with
+        the UV of every face corner and OpenSubdiv's rule for them ("all", "none", "corners_only",
+        "corners_plus1", "corners_plus2", "boundaries"). Checks the server's stored checksum
         against the one of what was sent."""
         positions = _flat(positions, float)
         face_sizes, face_vertices = _flat(face_sizes, int), _flat(face_vertices, int)
         creases = [(int(a), int(b), float(s)) for a, b, s in creases]
         corners = [(int(v), float(s)) for v, s in corners]
         holes = _flat(holes, int)
-        total = 4 * (len(positions) + len(face_sizes) + len(face_vertices) + len(holes)) + 12 * len(creases) + 8 * len(corners)
+        uvs, uv_indices = _flat(uvs, float), _flat(uv_indices, int)
+        total = 4 * (len(positions) + len(face_sizes) + len(face_vertices) + len(holes) + len(uvs) + len(uv_indices)) \
+            + 12 * len(creases) + 8 * len(corners)
         header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id, display_name=display_name or "",
                                            format=mesh_pb2.MESH_FORMAT_ARRAYS, total_bytes=total,
                                            options=mesh_pb2.SubdivisionOptions(
-                                               boundary_interpolation=_BOUNDARY[boundary]))
+                                               boundary_interpolation=_BOUNDARY[boundary],
+                                               uv_interpolation=_UV_INTERPOLATION[uv_interpolation]))
 
         def messages() -> Iterator[mesh_pb2.UploadMeshRequest]:
             yield mesh_pb2.UploadMeshRequest(header=header)
             for name, values in (("positions", positions), ("face_sizes", face_sizes),
-                                 ("face_vertices", face_vertices), ("holes", holes)):
+                                 ("face_vertices", face_vertices), ("holes", holes), ("uvs", uvs),
+                                 ("uv_indices", uv_indices)):
                 for offset in range(0, len(values), CHUNK_VALUES):
                     arrays = mesh_pb2.MeshArrays()
                     getattr(arrays, name).extend(values[offset:offset + CHUNK_VALUES])
@@ -249,7 +265,8 @@ class TesseraClient:
 
         mesh = self._call(lambda t: self._meshes.UploadMesh(messages(), timeout=t, metadata=self._metadata), timeout)
         boundary_value = _BOUNDARY[boundary] or BOUNDARY_EDGE_ONLY
-        expected = canonical_sha256(positions, face_sizes, face_vertices, creases, corners, holes, boundary_value)
+        expected = canonical_sha256(positions, face_sizes, face_vertices, creases, corners, holes, boundary_value,
+                                    uvs, uv_indices, uv_interpolation)
         if mesh.sha256 != expected:
             raise IntegrityError(f"the server stored {mesh.name} with sha256 {mesh.sha256}, "
                                  f"but what was sent has {expected}")
