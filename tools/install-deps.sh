@@ -23,6 +23,8 @@ packages=(
   libssl-dev
   # the Python client (client/python) and its tests, on Debian's python3
   python3-grpcio python3-protobuf python3-numpy python3-venv python3-pip python3-setuptools python3-wheel
+  # the Blender add-on (client/blender) and its end-to-end test in headless Blender
+  blender
   # rendering
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers spirv-tools glslc
   libopenimageio-dev

@@ -1,0 +1,141 @@
+"""Run inside headless Blender by tests/blender/run.sh: a creased, UV-mapped cube with a
+Subdivision modifier goes to a real tessera-server through the add-on as a user enables it, comes
+back as a new object beside it (triangles as the server counted them, UVs, custom normals, sharp
+creases, the cage's transform), a failing request leaves that object as it was and reports the
+server's message, and the cage and the result are written (Y-up, as sent) for tessera-limit-check.
+Arguments after "--": OUT_DIR SERVER_BINARY."""
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import addon_utils
+import bmesh
+import bpy
+
+out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
+TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
+
+
+def start_server():
+    """tessera-server on 127.0.0.1 with a scratch SQLite store."""
+    scratch = tempfile.mkdtemp()
+    ready = Path(scratch) / "ready"
+    process = subprocess.Popen([server_binary, "--listen", "127.0.0.1:0", "--store", f"sqlite:{scratch}/tessera.db",
+                                "--metrics-listen", "off", "--ready-file", str(ready), "--log-level", "warn"])
+    for _ in range(400):
+        if ready.exists() and "grpc=" in ready.read_text():
+            break
+        assert process.poll() is None, f"tessera-server exited with {process.returncode}"
+        time.sleep(0.05)
+    return process, next(line[5:] for line in ready.read_text().splitlines() if line.startswith("grpc="))
+
+
+def creased_cube():
+    """A cube (Blender's own, with its UV unwrap) away from the origin, its top rim infinitely
+    sharp, one vertical edge semi-sharp, one bottom corner a semi-sharp corner."""
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(1.0, 2.0, 0.5), rotation=(0.0, 0.0, 0.3))
+    cube = bpy.context.active_object
+    cube.name = "Cage"
+    mesh = bmesh.new()
+    mesh.from_mesh(cube.data)
+    edge_crease, vertex_crease = mesh.edges.layers.crease.verify(), mesh.verts.layers.crease.verify()
+    for edge in mesh.edges:
+        a, b = (v.co for v in edge.verts)
+        if a.z > 0 and b.z > 0:
+            edge[edge_crease] = 1.0
+        elif a.x > 0 and b.x > 0 and a.y > 0 and b.y > 0:
+            edge[edge_crease] = 0.6
+    next(v for v in mesh.verts if v.co.z < 0 and v.co.x < 0 and v.co.y < 0)[vertex_crease] = 0.8
+    mesh.to_mesh(cube.data)
+    modifier = cube.modifiers.new("Subdivision", "SUBSURF")
+    modifier.uv_smooth = UV_RULE[0]
+    return cube
+
+
+def write_obj(path: Path, positions, faces, uvs, corner_uvs, creases=(), corners=()):
+    with open(path, "w") as f:
+        for i in range(0, len(positions), 3):
+            f.write(f"v {positions[i]!r} {positions[i + 1]!r} {positions[i + 2]!r}\n")
+        for i in range(0, len(uvs), 2):
+            f.write(f"vt {uvs[i]!r} {uvs[i + 1]!r}\n")
+        for face, face_uvs in zip(faces, corner_uvs):
+            f.write("f " + " ".join(f"{v + 1}/{t + 1}" for v, t in zip(face, face_uvs)) + "\n")
+        for v0, v1, sharpness in creases:
+            f.write(f"t crease 2/1/0 {v0} {v1} {sharpness!r}\n")
+        for vertex, sharpness in corners:
+            f.write(f"t corner 1/1/0 {vertex} {sharpness!r}\n")
+
+
+def main():
+    process, address = start_server()
+    try:
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        addon_utils.enable("tessera_subdiv", default_set=True)
+        import tessera_subdiv
+        from tessera_subdiv.cage import read_cage, to_y_up
+        bpy.context.preferences.addons["tessera_subdiv"].preferences.server = address
+        cube = creased_cube()
+        cage = read_cage(cube)
+        assert len(cage.creases) == 5 and cage.corners and cage.uv_indices and cage.uv_interpolation == UV_RULE[1], cage
+
+        # Through the operator, as the panel's button runs it.
+        bpy.context.view_layer.objects.active = cube
+        cube.tessera.tolerance = TOLERANCE
+        assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
+        result = bpy.data.objects["Cage_tessera"]
+        mesh = result.data
+        assert len(mesh.polygons) == result["tessera_triangles"] > 100, (len(mesh.polygons), result["tessera_triangles"])
+        assert mesh.uv_layers.active is not None and mesh.has_custom_normals
+        assert any(e.use_edge_sharp for e in mesh.edges), "the creased rim came back without sharp edges"
+        assert all(abs(a - b) < 1e-6 for r, s in zip(result.matrix_world, cube.matrix_world) for a, b in zip(r, s))
+        assert result.users_collection[0] == cube.users_collection[0]
+
+        # A request the server refuses: its message reaches the caller, the object keeps its mesh.
+        try:
+            tessera_subdiv.tessellate_object(bpy.context, cube, address, tolerance=1e-9)
+            raise AssertionError("a tolerance finer than the server allows was accepted")
+        except tessera_subdiv.TesseraError as error:
+            assert "min_relative_tolerance" in str(error), str(error)
+        assert bpy.data.objects["Cage_tessera"].data == mesh
+        # The operator reports it as an error (which headless Blender raises), the object unchanged.
+        cube.tessera.tolerance = 1e-9
+        try:
+            bpy.ops.object.tessera_tessellate()
+            raise AssertionError("the operator accepted a tolerance finer than the server allows")
+        except RuntimeError as error:
+            assert "Tessera: relative: a tolerance" in str(error), str(error)
+        assert bpy.data.objects["Cage_tessera"].data == mesh
+
+        # The cage as sent and the result in the same (Y-up) frame, for tessera-limit-check.
+        faces, offset = [], 0
+        for size in cage.face_sizes:
+            faces.append(cage.face_vertices[offset:offset + size])
+            offset += size
+        corner_uvs, offset = [], 0
+        for size in cage.face_sizes:
+            corner_uvs.append(cage.uv_indices[offset:offset + size])
+            offset += size
+        write_obj(out / "cage.obj", cage.positions, faces, cage.uvs, corner_uvs, cage.creases,
+                  [(v, s) for v, s in cage.corners])
+        positions = [c for v in mesh.vertices for c in to_y_up(*v.co)]
+        uvs, result_faces, result_uvs = [], [], []
+        layer = mesh.uv_layers.active.data
+        for polygon in mesh.polygons:
+            result_faces.append(list(polygon.vertices))
+            result_uvs.append([])
+            for loop in range(polygon.loop_start, polygon.loop_start + polygon.loop_total):
+                result_uvs[-1].append(len(uvs) // 2)
+                uvs.extend(layer[loop].uv)
+        write_obj(out / "result.obj", positions, result_faces, uvs, result_uvs)
+        (out / "tolerance").write_text(repr(TOLERANCE))
+        (out / "uv-interpolation").write_text(UV_RULE[1])
+        print("round trip:", len(mesh.polygons), "triangles")
+    finally:
+        process.terminate()
+        process.wait(timeout=30)
+
+
+main()
