@@ -2,7 +2,7 @@
 Subdivision modifier goes to a real tessera-server through the add-on as a user enables it, comes
 back as a new object beside it (triangles as the server counted them, UVs, custom normals, sharp
 creases, the cage's transform), a failing request leaves that object as it was and reports the
-server's message, and the cage and the result are written (Y-up, as sent) for tessera-limit-check.
+server's message, pixel accuracy follows the scene camera, and the cage and the result are written (Y-up, as sent) for tessera-limit-check.
 Arguments after "--": OUT_DIR SERVER_BINARY."""
 import os
 import subprocess
@@ -14,6 +14,7 @@ from pathlib import Path
 import addon_utils
 import bmesh
 import bpy
+from mathutils import Vector
 
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
@@ -108,6 +109,22 @@ def main():
         except RuntimeError as error:
             assert "Tessera: relative: a tolerance" in str(error), str(error)
         assert bpy.data.objects["Cage_tessera"].data == mesh
+
+        # Pixel accuracy for the scene camera: a camera ten times farther needs far fewer triangles.
+        counts = []
+        for distance in (6.0, 60.0):
+            camera = bpy.data.objects.new(f"Camera{distance:g}", bpy.data.cameras.new("Camera"))
+            bpy.context.scene.collection.objects.link(camera)
+            camera.location = cube.location + Vector((0.0, -distance, 0.5 * distance))
+            camera.rotation_euler = (cube.location - camera.location).to_track_quat("-Z", "Y").to_euler()
+            bpy.context.scene.camera = camera
+            cube.tessera.mode = "PIXEL"
+            assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
+            counts.append(bpy.data.objects["Cage_tessera"]["tessera_triangles"])
+        assert counts[0] > 4 * counts[1] > 0, counts
+        cube.tessera.mode, cube.tessera.tolerance = "RELATIVE", TOLERANCE
+        assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
+        mesh = bpy.data.objects["Cage_tessera"].data
 
         # The cage as sent and the result in the same (Y-up) frame, for tessera-limit-check.
         faces, offset = [], 0
