@@ -78,6 +78,10 @@ struct ControlMesh {
   // order of faceVertices) the index of its pair. Both empty when the mesh has none.
   std::vector<float> uvs;
   std::vector<int> uvIndices;
+  // The point positions are relative to (model units). Zero unless the mesh lies far from the
+  // origin for its size, where float positions would round its detail away: the OBJ reader then
+  // puts it at the centre of the mesh's box (docs/FAR-FROM-ORIGIN.md).
+  Vec3d origin{0, 0, 0};
 
   bool hasUvs() const { return !uvIndices.empty(); }
   int vertexCount() const { return static_cast<int>(positions.size()); }

@@ -131,6 +131,7 @@ struct Stored {
   std::vector<View> views;  // positions, normals, indices, and texture coordinates when the mesh has them
   int positionType = kFloat, normalType = kFloat;
   std::array<double, 3> positionMin{}, positionMax{};
+  Vec3d origin{0, 0, 0};  // the node's translation before quantization's (TriangleMesh::origin)
 };
 
 void positionBounds(const std::vector<Vec3>& positions, Stored& stored) {
@@ -348,10 +349,15 @@ std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binB
   json.raw("}");
   json.key("indices").number(2).key("mode").number(kTriangles).raw("}]}]");
   json.key("nodes").raw("[{").key("mesh").number(0).key("name").string(name);
+  // The node carries the mesh's origin (far from the origin, the positions are relative to it)
+  // and the quantization grid's centre, relative to that origin, in double precision.
+  const Vec3d& origin = stored.origin;
   if (options.positions) {
     const PositionQuantization& q = *options.positions;
     json.key("scale").vector({q.step, q.step, q.step});
-    json.key("translation").vector({q.center.x, q.center.y, q.center.z});
+    json.key("translation").vector({origin.x + q.center.x, origin.y + q.center.y, origin.z + q.center.z});
+  } else if (origin.x != 0 || origin.y != 0 || origin.z != 0) {
+    json.key("translation").vector({origin.x, origin.y, origin.z});
   }
   json.raw("}]").key("scene").number(0).key("scenes").raw("[{").key("nodes").raw("[0]}]}");
   return json.take();
@@ -380,7 +386,8 @@ GlbEncoding parseGlbEncoding(const std::string& name) {
 std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& options) {
   if (mesh.normals.size() != mesh.positions.size()) throwInvalid("could not write the GLB: normals and positions differ in count");
   if (!mesh.uvs.empty() && mesh.uvs.size() != 2 * mesh.positions.size()) throwInvalid("could not write the GLB: UVs and positions differ in count");
-  const Stored stored = options.encoding == GlbEncoding::kFloat ? storePlain(mesh) : storeQuantized(mesh, options);
+  Stored stored = options.encoding == GlbEncoding::kFloat ? storePlain(mesh) : storeQuantized(mesh, options);
+  stored.origin = mesh.origin;
   size_t binBytes = 0;
   for (const View& view : stored.views) binBytes += padded(view.compressed.empty() ? view.size : view.compressed.size());
   std::string json = glbJson(stored, options, binBytes);

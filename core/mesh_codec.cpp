@@ -9,6 +9,8 @@ namespace tessera {
 namespace {
 
 constexpr std::string_view kMagic = "TSM1";
+constexpr std::string_view kUvsTag = "UVS1";
+constexpr std::string_view kOriginTag = "ORG1";
 
 class Writer {
  public:
@@ -21,6 +23,7 @@ class Writer {
   }
   void i32(int32_t v) { u32(static_cast<uint32_t>(v)); }
   void f32(float v) { u32(std::bit_cast<uint32_t>(v)); }
+  void f64(double v) { u64(std::bit_cast<uint64_t>(v)); }
   void reserve(size_t n) { out_.reserve(n); }
   std::string take() { return std::move(out_); }
 
@@ -54,6 +57,9 @@ class Reader {
   }
   int32_t i32() { return static_cast<int32_t>(u32()); }
   float f32() { return std::bit_cast<float>(u32()); }
+  double f64() { return std::bit_cast<double>(u64()); }
+  // Whether the next bytes are `tag` (nothing is read).
+  bool peek(std::string_view tag) const { return in_.substr(pos_, tag.size()) == tag; }
 
   // A count of records of recordBytes each that must fit in what is left: checked before any
   // allocation, so a corrupt count cannot make the decoder reserve terabytes.
@@ -106,12 +112,18 @@ std::string encodeCanonicalMesh(const ControlMesh& mesh) {
   }
   w.u64(mesh.holes.size());
   for (int f : mesh.holes) w.i32(f);
-  // UVs only when there are any, so meshes without them keep the encoding (and sha256) they had.
+  // Optional sections, each only when the mesh has it (so meshes without keep the encoding and
+  // sha256 they had), named by a tag, in this order.
   if (mesh.hasUvs()) {
+    w.bytes(kUvsTag);
     w.u64(mesh.uvs.size());
     for (float c : mesh.uvs) w.f32(c);
     w.u64(mesh.uvIndices.size());
     for (int i : mesh.uvIndices) w.i32(i);
+  }
+  if (mesh.origin.x != 0 || mesh.origin.y != 0 || mesh.origin.z != 0) {
+    w.bytes(kOriginTag);
+    w.f64(mesh.origin.x), w.f64(mesh.origin.y), w.f64(mesh.origin.z);
   }
   return w.take();
 }
@@ -139,11 +151,16 @@ ControlMesh decodeCanonicalMesh(std::string_view bytes) {
   }
   mesh.holes.resize(r.count(4));
   for (int& f : mesh.holes) f = r.i32();
-  if (!r.atEnd()) {
+  if (!r.atEnd() && r.peek(kUvsTag)) {
+    r.bytes(kUvsTag.size());
     mesh.uvs.resize(r.count(4));
     for (float& c : mesh.uvs) c = r.f32();
     mesh.uvIndices.resize(r.count(4));
     for (int& i : mesh.uvIndices) i = r.i32();
+  }
+  if (!r.atEnd() && r.peek(kOriginTag)) {
+    r.bytes(kOriginTag.size());
+    mesh.origin.x = r.f64(), mesh.origin.y = r.f64(), mesh.origin.z = r.f64();
   }
   if (!r.atEnd()) throw MeshDecodeError("mesh encoding: trailing bytes");
   return mesh;

@@ -110,10 +110,10 @@ enum class NumberParse { kOk, kMalformed, kBeyondFloat };
 // Goes through double so that values too small for float become zero or a denormal instead of
 // an error; values too large for float are an error rather than a silent infinity. NaN and
 // infinity spelled out ("nan", "inf") parse: callers decide whether they make sense.
-inline NumberParse parseFloat(std::string_view token, float& value) {
+// The number in double precision, refused (kBeyondFloat) where a float could not hold it.
+inline NumberParse parseWide(std::string_view token, double& wide) {
   token = withoutPlusSign(token);
   const char* end = token.data() + token.size();
-  double wide = 0.0;
   auto [ptr, ec] = std::from_chars(token.data(), end, wide);
   if (ptr != end || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
     return NumberParse::kMalformed;
@@ -122,8 +122,14 @@ inline NumberParse parseFloat(std::string_view token, float& value) {
   if (std::isfinite(wide) && std::abs(wide) > std::numeric_limits<float>::max()) {
     return NumberParse::kBeyondFloat;
   }
-  value = static_cast<float>(wide);
   return NumberParse::kOk;
+}
+
+inline NumberParse parseFloat(std::string_view token, float& value) {
+  double wide = 0.0;
+  const NumberParse parsed = parseWide(token, wide);
+  if (parsed == NumberParse::kOk) value = static_cast<float>(wide);
+  return parsed;
 }
 
 }  // namespace tessera::obj_detail

@@ -27,6 +27,7 @@ using obj_detail::formatNumber;
 using obj_detail::LineTokens;
 using obj_detail::NumberParse;
 using obj_detail::parseFloat;
+using obj_detail::parseWide;
 using obj_detail::parseInt;
 using obj_detail::quoted;
 using obj_detail::SourceLine;
@@ -68,7 +69,8 @@ class ObjParser {
   void parseTextureVertex(LineTokens& tokens, const SourceLine& at);
   int textureIndex(std::string_view afterSlash, const SourceLine& at);
   void keepUvsOfEveryCornerOrNone();
-  float coordinate(std::string_view token, const char* axis, const SourceLine& at) const;
+  double coordinate(std::string_view token, const char* axis, const SourceLine& at) const;
+  void placeFarMeshesAtTheirCentre();
   void parseFace(LineTokens& tokens, const SourceLine& at);
   int faceVertexIndex(std::string_view token, const SourceLine& at);
   void requireDistinctVertices(const SourceLine& at);
@@ -88,6 +90,7 @@ class ObjParser {
   std::vector<int> cornerUvs_;
   int firstFaceWithoutUv_ = -1, firstFaceWithoutUvLine_ = 0, firstFaceWithUvLine_ = 0;
   int largestUv_ = -1, largestUvLine_ = 0;
+  std::vector<Vec3d> exact_;  // the positions as read, in double precision
 };
 
 void ObjParser::parseLine(std::string_view line, int lineNumber) {
@@ -112,7 +115,7 @@ void ObjParser::parseVertex(LineTokens& tokens, const SourceLine& at) {
     failLimit(at, "more than " + std::to_string(limits_.maxVertices) + " vertices (the limit)");
   }
   static constexpr const char* kAxes[] = {"x", "y", "z"};
-  float xyz[3];
+  double xyz[3];
   for (int axis = 0; axis < 3; ++axis) {
     std::string_view token;
     if (!tokens.next(token)) {
@@ -132,7 +135,8 @@ void ObjParser::parseVertex(LineTokens& tokens, const SourceLine& at) {
     failInvalid(at,
                 "unexpected " + quoted(extra) + " after the coordinates: expected 'v x y z [w]'");
   }
-  mesh_.positions.emplace_back(xyz[0], xyz[1], xyz[2]);
+  mesh_.positions.emplace_back(float(xyz[0]), float(xyz[1]), float(xyz[2]));
+  exact_.emplace_back(xyz[0], xyz[1], xyz[2]);
 }
 
 // "vt u [v [w]]": v defaults to 0 (OBJ); w, for 3D textures, is read and dropped.
@@ -143,7 +147,7 @@ void ObjParser::parseTextureVertex(LineTokens& tokens, const SourceLine& at) {
   float uvw[3] = {0.0f, 0.0f, 0.0f};
   static constexpr const char* kAxes[] = {"u", "v", "w"};
   int read = 0;
-  for (std::string_view token; read < 3 && tokens.next(token); ++read) uvw[read] = coordinate(token, kAxes[read], at);
+  for (std::string_view token; read < 3 && tokens.next(token); ++read) uvw[read] = float(coordinate(token, kAxes[read], at));
   std::string_view extra;
   if (read == 0) failInvalid(at, "missing u coordinate: expected 'vt u [v [w]]'");
   if (tokens.next(extra)) failInvalid(at, "unexpected " + quoted(extra) + " after the coordinates: expected 'vt u [v [w]]'");
@@ -151,9 +155,9 @@ void ObjParser::parseTextureVertex(LineTokens& tokens, const SourceLine& at) {
   mesh_.uvs.push_back(uvw[1]);
 }
 
-float ObjParser::coordinate(std::string_view token, const char* axis, const SourceLine& at) const {
-  float value = 0.0f;
-  const NumberParse parsed = parseFloat(token, value);
+double ObjParser::coordinate(std::string_view token, const char* axis, const SourceLine& at) const {
+  double value = 0.0;
+  const NumberParse parsed = parseWide(token, value);
   if (parsed == NumberParse::kMalformed) {
     failInvalid(
         at, std::string("bad ") + axis + " coordinate " + quoted(token) + ": expected a number");
@@ -170,6 +174,25 @@ float ObjParser::coordinate(std::string_view token, const char* axis, const Sour
                       formatNumber(limits_.maxAbsCoordinate) + " in absolute value");
   }
   return value;
+}
+
+// A mesh farther from the origin than kFarFromOrigin of its box diagonals would lose its detail in
+// float positions (each rounds by up to 2⁻²⁴ of its magnitude, 2.4e-7 of the diagonal at 4
+// diagonals, where the server's finest relative tolerance is 1e-6): its positions are taken
+// relative to its box's centre, computed from the doubles read (docs/FAR-FROM-ORIGIN.md).
+void ObjParser::placeFarMeshesAtTheirCentre() {
+  constexpr double kFarFromOrigin = 4.0;
+  if (exact_.empty()) return;
+  Vec3d lo = exact_[0], hi = exact_[0];
+  for (const Vec3d& p : exact_) {
+    lo = Vec3d(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+    hi = Vec3d(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+  }
+  const Vec3d centre = (lo + hi) * 0.5;
+  const double far = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
+  if (far <= kFarFromOrigin * length(hi - lo)) return;
+  mesh_.origin = centre;
+  for (size_t v = 0; v < exact_.size(); ++v) mesh_.positions[v] = Vec3(exact_[v] - centre);
 }
 
 void ObjParser::parseFace(LineTokens& tokens, const SourceLine& at) {
@@ -301,6 +324,7 @@ ControlMesh ObjParser::finish() {
   }
   tags_.checkReferences(mesh_, source_);
   keepUvsOfEveryCornerOrNone();
+  placeFarMeshesAtTheirCentre();
   try {
     validateControlMesh(mesh_, limits_);
   } catch (const TesseraError& error) {

@@ -15,9 +15,10 @@
 namespace tessera {
 
 struct TriangleMesh {
-  std::vector<Vec3> positions;
+  std::vector<Vec3> positions;  // relative to `origin`
   std::vector<Vec3> normals;
   std::vector<uint32_t> indices;  // counter-clockwise seen from the normal side
+  Vec3d origin{0, 0, 0};          // the control mesh's (ControlMesh::origin)
   std::vector<float> uvs;         // u, v per vertex when the control mesh has UVs (core/uv_seams.h)
   // Where each vertex lies in the limit surface's parameterization (base face, quad sub-face or
   // -1, u, v): lets tests compare every vertex and triangle with an exact evaluator.

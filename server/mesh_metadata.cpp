@@ -28,8 +28,9 @@ void describeMesh(const ControlMesh& mesh, MeshMetadata& metadata) {
     hi = Vec3d(std::max<double>(hi.x, p.x), std::max<double>(hi.y, p.y),
                std::max<double>(hi.z, p.z));
   }
-  metadata.boundsMin = lo;
-  metadata.boundsMax = hi;
+  // In model units: the positions are relative to the mesh's origin.
+  metadata.boundsMin = lo + mesh.origin;
+  metadata.boundsMax = hi + mesh.origin;
 }
 
 SubdivisionRules rulesFromColumn(int64_t code, const std::string& id) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/error.h"
 #include "core/manifold_check.h"
@@ -22,12 +23,13 @@ constexpr size_t kMaxDisplayNameBytes = 256;
 constexpr int64_t kScalarBytes = 4;
 constexpr int64_t kCreaseBytes = 12;
 constexpr int64_t kCornerBytes = 8;
+constexpr int64_t kOriginBytes = 24;
 
 int64_t arraysBytes(const v1::MeshArrays& a) {
   return kScalarBytes *
              (a.positions_size() + a.face_sizes_size() + a.face_vertices_size() + a.holes_size() + a.uvs_size() +
               a.uv_indices_size()) +
-         kCreaseBytes * a.creases_size() + kCornerBytes * a.corners_size();
+         kCreaseBytes * a.creases_size() + kCornerBytes * a.corners_size() + (a.has_origin() ? kOriginBytes : 0);
 }
 
 std::optional<BoundaryInterpolation> boundaryFromProto(int value) {
@@ -184,6 +186,15 @@ void UploadAssembler::acceptArrays(const v1::MeshArrays& a) {
   arrays_.holes.insert(arrays_.holes.end(), a.holes().begin(), a.holes().end());
   arrays_.uvs.insert(arrays_.uvs.end(), a.uvs().begin(), a.uvs().end());
   arrays_.uvIndices.insert(arrays_.uvIndices.end(), a.uv_indices().begin(), a.uv_indices().end());
+  if (a.has_origin()) {
+    if (hasOrigin_) throwInvalidArgument(fmt::format("UploadMeshRequest #{}: arrays.origin: given twice", messages_ - 1));
+    const v1::Vec3& o = a.origin();
+    if (!std::isfinite(o.x()) || !std::isfinite(o.y()) || !std::isfinite(o.z())) {
+      throwInvalidArgument(fmt::format("UploadMeshRequest #{}: arrays.origin: not finite", messages_ - 1));
+    }
+    arrays_.origin = Vec3d(o.x(), o.y(), o.z());
+    hasOrigin_ = true;
+  }
 }
 
 AssembledUpload UploadAssembler::finish() {

@@ -64,6 +64,7 @@ class UploadAssembler {
   std::optional<CreaseMethod> creaseMethod_;
   std::optional<TriangleSubdivision> triangleSubdivision_;
   std::optional<UvInterpolation> uvInterpolation_;
+  bool hasOrigin_ = false;
   int64_t declaredBytes_ = 0;
   int64_t received_ = 0;
   int64_t messages_ = 0;

@@ -34,10 +34,11 @@ constexpr int64_t kFrameBaseBytes = 16 << 20;
 constexpr int64_t kDrawnBytesPerTriangle = 32;
 
 // FrameEngine's request for a job: default background, light, material and geometry path.
-gpu::FrameRequest frameRequestFor(const FrameJob& job) {
+// The camera in the frame of the mesh's positions (relative to its origin).
+gpu::FrameRequest frameRequestFor(const FrameJob& job, const Vec3d& origin) {
   gpu::FrameRequest request;
   const CameraSpec& c = job.camera;
-  request.camera = tessera::Camera{c.eye, c.target, c.up, c.fovYDeg, c.width, c.height};
+  request.camera = tessera::Camera{c.eye - origin, c.target - origin, c.up, c.fovYDeg, c.width, c.height};
   const FrameSettings& s = job.settings;
   switch (s.accuracy) {
     case FrameAccuracy::kPixel:
@@ -170,7 +171,7 @@ RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJo
   Clock::time_point planStart = Clock::now();
   std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel, job.memory);
   cancel.throwIfCancelled();
-  gpu::FrameRequest request = frameRequestFor(job);
+  gpu::FrameRequest request = frameRequestFor(job, mesh.origin);
   if (job.memory) {
     request.beforeDrawing = [&job](int64_t triangles) {
       job.memory->reserve(kDrawnBytesPerTriangle * triangles,

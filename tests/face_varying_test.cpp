@@ -162,7 +162,7 @@ TEST(FaceVarying, StoredEncodingKeepsUvsAndRuleAndLeavesMeshesWithoutThemAsTheyW
   ControlMesh plain = mesh;
   plain.uvs.clear(), plain.uvIndices.clear(), plain.rules.uvInterpolation = UvInterpolation::kAll;
   const std::string encoded = encodeCanonicalMesh(plain);
-  EXPECT_EQ(encoded.size(), encodeCanonicalMesh(mesh).size() - 16 - 4 * mesh.uvs.size() - 4 * mesh.uvIndices.size());
+  EXPECT_EQ(encoded.size(), encodeCanonicalMesh(mesh).size() - 4 - 16 - 4 * mesh.uvs.size() - 4 * mesh.uvIndices.size());  // tag, counts, values
   // A mesh without UVs under the default rule has the rules code it had before UVs existed.
   EXPECT_EQ(rulesCode(plain.rules), 1u);
   for (UvInterpolation rule : kEveryRule) {

@@ -140,6 +140,15 @@ class ClientTest(unittest.TestCase):
         texcoords = document["accessors"][attributes["TEXCOORD_0"]]
         self.assertEqual(texcoords["count"], document["accessors"][attributes["POSITION"]]["count"])
 
+    def test_an_origin_places_the_positions_far_away(self):
+        positions, sizes, faces, _ = grid_arrays(4)
+        mesh = self.client.upload_arrays("grid-far", positions, sizes, faces, origin=(1e6, -2e6, 0.5))
+        # The client checked the stored checksum, origin included; the box is in model units.
+        self.assertAlmostEqual(mesh.bounding_box.min.x, 1e6, places=6)
+        self.assertAlmostEqual(mesh.bounding_box.max.y, -2e6 + 4, places=6)
+        _, _, _, document = glb_triangles_and_box(self.client.tessellate("grid-far", relative=1e-3).glb)
+        self.assertEqual(document["nodes"][0]["translation"], [1e6, -2e6, 0.5])
+
     def test_tessellate_to_file_quantized_and_pixel(self):
         self.client.upload_obj("box-file", SAMPLE)
         with tempfile.TemporaryDirectory() as out:

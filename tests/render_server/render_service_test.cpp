@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "tests/render_server/render_test_support.h"
 
 namespace tessera::test {
@@ -69,6 +71,40 @@ TEST_F(RenderTest, RawRgbaIsTheInProcessFrameByteForByte) {
   ASSERT_EQ(reference.frame.rgba.size(), f.bytes.size());
   EXPECT_TRUE(std::equal(f.bytes.begin(), f.bytes.end(), reference.frame.rgba.begin(),
                          [](char a, uint8_t b) { return uint8_t(a) == b; }));
+}
+
+// A mesh far from the origin is stored relative to its centre; a camera in model units sees it
+// where it is: bigguy a million units away, seen from the same place relative to it, fills the
+// same pixels as bigguy at home.
+TEST_F(RenderTest, AMeshFarFromTheOriginIsSeenWhereItIs) {
+  const Vec3d far(1e6, -2e6, 5e5);
+  const ControlMesh& home = bigguy().mesh;
+  std::string obj;
+  for (const Vec3& p : home.positions) obj += fmt::format("v {} {} {}\n", p.x + far.x, p.y + far.y, p.z + far.z);
+  size_t corner = 0;
+  for (int size : home.faceSizes) {
+    obj += "f";
+    for (int k = 0; k < size; ++k) obj += fmt::format(" {}", home.faceVertices[corner++] + 1);
+    obj += "\n";
+  }
+  auto meshes = v1::MeshService::NewStub(server().channel());
+  UploadResult uploaded = uploadMessages(*meshes, objUpload("bigguy-far", obj));
+  ASSERT_TRUE(uploaded.status.ok()) << uploaded.status.error_message();
+  tessera::Camera camera = framedCamera({0.3, 0.4, 1}, 128, 128);
+  tessera::Camera farCamera = camera;
+  farCamera.eye = camera.eye + far, farCamera.target = camera.target + far;
+  v1::RenderRequest request = renderRequest({farCamera}, v1::IMAGE_FORMAT_RAW_RGBA);
+  request.set_name("meshes/bigguy-far");
+  RenderCall call = render(*renderStub(), request);
+  ASSERT_TRUE(call.status.ok()) << call.status.error_message();
+  ASSERT_EQ(call.frames.size(), 1u);
+  const ReceivedFrame& f = call.frames[0];
+  std::vector<bool> served(f.bytes.size() / 4), expected = coverage(referenceFrame(camera).frame);
+  for (size_t i = 0; i < served.size(); ++i) {
+    served[i] = f.bytes[4 * i] != 0 || f.bytes[4 * i + 1] != 0 || f.bytes[4 * i + 2] != 0;
+  }
+  EXPECT_GT(count(served), served.size() / 10);
+  EXPECT_GE(intersectionOverUnion(served, expected), 0.99);
 }
 
 TEST_F(RenderTest, CameraLookingAwayGivesABackgroundFrame) {

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "tests/server/store_fixture.h"
 
 namespace tessera::test {
@@ -90,6 +92,43 @@ TEST_P(MeshServiceTest, CreasesCornersAndHolesRoundTrip) {
 
 // Rules come from the OBJ's tags unless the header names them; the checksum covers them, packed as
 // mesh.proto documents (boundary | Chaikin << 8 | smooth triangles << 16).
+// A mesh far from the origin for its size (a grid of unit squares a million units away) is stored
+// relative to its box's centre: its box is reported in model units, DownloadMesh sends the origin
+// with the relative positions, and an arrays upload of those with the origin is the same mesh.
+TEST_P(MeshServiceTest, AMeshFarFromTheOriginKeepsItsDetailRelativeToItsCentre) {
+  auto server = startServer();
+  ASSERT_TRUE(server);
+  auto stub = v1::MeshService::NewStub(server->channel());
+  std::string obj;
+  for (int j = 0; j <= 4; ++j) {
+    for (int i = 0; i <= 4; ++i) obj += fmt::format("v {} {} {}\n", 1e6 + i + 0.001 * j, -2e6 + j, 0.25 * ((i + j) % 2));
+  }
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      const int v = j * 5 + i + 1;
+      obj += fmt::format("f {} {} {} {}\n", v, v + 1, v + 6, v + 5);
+    }
+  }
+  UploadResult fromObj = uploadMessages(*stub, objUpload("far", obj));
+  ASSERT_TRUE(fromObj.status.ok()) << fromObj.status.error_message();
+  // Model units: the origin plus the stored float positions (within their rounding, ~1e-7 here).
+  EXPECT_NEAR(fromObj.mesh.bounding_box().min().x(), 1e6, 1e-6);
+  EXPECT_NEAR(fromObj.mesh.bounding_box().max().x(), 1e6 + 4.004, 1e-6);
+  EXPECT_NEAR(fromObj.mesh.bounding_box().min().y(), -2e6, 1e-6);
+  grpc::Status status;
+  MeshArrays arrays = downloadMesh(*stub, "far", &status);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_DOUBLE_EQ(arrays.origin[0], 1e6 + 2.002);
+  EXPECT_DOUBLE_EQ(arrays.origin[1], -2e6 + 2);
+  // The millimetre steps survive in the float positions (at 1e6 a float steps by 0.0625).
+  EXPECT_NEAR(arrays.positions[3 * 5] - arrays.positions[0], 0.001, 1e-6);
+  EXPECT_EQ(fromObj.mesh.sha256(), sha256Hex(canonicalEncoding(arrays)));
+  UploadResult fromArrays = uploadMessages(*stub, arraysUpload("far-arrays", arrays));
+  ASSERT_TRUE(fromArrays.status.ok()) << fromArrays.status.error_message();
+  EXPECT_EQ(fromArrays.mesh.sha256(), fromObj.mesh.sha256());
+  EXPECT_EQ(fromArrays.mesh.bounding_box().min().x(), fromObj.mesh.bounding_box().min().x());
+}
+
 TEST_P(MeshServiceTest, SubdivisionRulesComeFromTheFileOrTheHeaderAndAreStored) {
   auto server = startServer();
   ASSERT_TRUE(server);

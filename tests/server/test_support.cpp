@@ -172,7 +172,7 @@ bool MeshArrays::operator==(const MeshArrays& o) const {
     for (size_t i = 0; i < uvs.size(); ++i) {
       if (std::bit_cast<uint32_t>(uvs[i]) != std::bit_cast<uint32_t>(o.uvs[i])) return false;
     }
-    return uvIndices == o.uvIndices;
+    return uvIndices == o.uvIndices && origin == o.origin;
   };
   return samePositions() && faceSizes == o.faceSizes && faceVertices == o.faceVertices &&
          sameCreases() && sameCorners() && holes == o.holes && sameUvs();
@@ -181,6 +181,7 @@ bool MeshArrays::operator==(const MeshArrays& o) const {
 int64_t MeshArrays::uploadBytes() const {
   return 4 * static_cast<int64_t>(positions.size() + faceSizes.size() + faceVertices.size() +
                                   holes.size() + uvs.size() + uvIndices.size()) +
+         (origin[0] != 0 || origin[1] != 0 || origin[2] != 0 ? 24 : 0) +
          12 * static_cast<int64_t>(creases.size()) + 8 * static_cast<int64_t>(corners.size());
 }
 
@@ -266,10 +267,15 @@ std::string canonicalEncoding(const MeshArrays& m, uint32_t rules) {
   appendLe(out, m.holes.size(), 8);
   for (int32_t h : m.holes) appendLe(out, static_cast<uint32_t>(h), 4);
   if (!m.uvIndices.empty()) {  // only a mesh with UVs has them (mesh.proto)
+    out += "UVS1";
     appendLe(out, m.uvs.size(), 8);
     for (float f : m.uvs) appendLe(out, std::bit_cast<uint32_t>(f), 4);
     appendLe(out, m.uvIndices.size(), 8);
     for (int32_t i : m.uvIndices) appendLe(out, static_cast<uint32_t>(i), 4);
+  }
+  if (m.origin[0] != 0 || m.origin[1] != 0 || m.origin[2] != 0) {  // only a mesh far from the origin
+    out += "ORG1";
+    for (double c : m.origin) appendLe(out, std::bit_cast<uint64_t>(c), 8);
   }
   return out;
 }
@@ -339,6 +345,10 @@ std::vector<v1::UploadMeshRequest> arraysUpload(const std::string& id, const Mes
   for (int32_t h : mesh.holes) a->add_holes(h);
   for (float c : mesh.uvs) a->add_uvs(c);
   for (int32_t i : mesh.uvIndices) a->add_uv_indices(i);
+  if (mesh.origin[0] != 0 || mesh.origin[1] != 0 || mesh.origin[2] != 0) {
+    a->mutable_origin()->set_x(mesh.origin[0]), a->mutable_origin()->set_y(mesh.origin[1]);
+    a->mutable_origin()->set_z(mesh.origin[2]);
+  }
   messages.push_back(rest);
   return messages;
 }
@@ -380,6 +390,7 @@ MeshArrays downloadMesh(v1::MeshService::Stub& stub, const std::string& id, grpc
     mesh.holes.insert(mesh.holes.end(), a.holes().begin(), a.holes().end());
     mesh.uvs.insert(mesh.uvs.end(), a.uvs().begin(), a.uvs().end());
     mesh.uvIndices.insert(mesh.uvIndices.end(), a.uv_indices().begin(), a.uv_indices().end());
+    if (a.has_origin()) mesh.origin = {a.origin().x(), a.origin().y(), a.origin().z()};
   }
   *status = reader->Finish();
   return mesh;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,7 @@ struct MeshArrays {
   std::vector<int32_t> holes;
   std::vector<float> uvs;          // u, v per UV (OBJ vt)
   std::vector<int32_t> uvIndices;  // per face corner, or empty
+  std::array<double, 3> origin{0, 0, 0};  // what positions are relative to
 
   bool operator==(const MeshArrays& other) const;
   size_t vertexCount() const { return positions.size() / 3; }

@@ -20,9 +20,11 @@ def _little_endian(values: array) -> bytes:
 def canonical_sha256(positions: Sequence[float], face_sizes: Sequence[int], face_vertices: Sequence[int],
                      creases: Iterable[Tuple[int, int, float]] = (), corners: Iterable[Tuple[int, float]] = (),
                      holes: Sequence[int] = (), boundary: int = BOUNDARY_EDGE_ONLY, uvs: Sequence[float] = (),
-                     uv_indices: Sequence[int] = (), uv_interpolation: str = "all") -> str:
+                     uv_indices: Sequence[int] = (), uv_interpolation: str = "all",
+                     origin: Sequence[float] = (0.0, 0.0, 0.0)) -> str:
     """Lower-case hex SHA-256 of the canonical encoding of these arrays (UVs, u and v per UV with
-    one index per face corner, only when given)."""
+    one index per face corner, only when given; the point positions are relative to, only when
+    not zero)."""
     creases, corners = list(creases), list(corners)
     digest = hashlib.sha256()
     digest.update(b"TSM1" + struct.pack("<I", boundary | UV_RULE_CODES[uv_interpolation] << 24))
@@ -37,6 +39,8 @@ def canonical_sha256(positions: Sequence[float], face_sizes: Sequence[int], face
         digest.update(struct.pack("<if", vertex, sharpness))
     digest.update(struct.pack("<Q", len(holes)) + _little_endian(array("i", holes)))
     if len(uv_indices):
-        digest.update(struct.pack("<Q", len(uvs)) + _little_endian(array("f", uvs)))
+        digest.update(b"UVS1" + struct.pack("<Q", len(uvs)) + _little_endian(array("f", uvs)))
         digest.update(struct.pack("<Q", len(uv_indices)) + _little_endian(array("i", uv_indices)))
+    if any(origin):
+        digest.update(b"ORG1" + struct.pack("<3d", *origin))
     return digest.hexdigest()

@@ -223,22 +223,24 @@ class TesseraClient:
     def upload_arrays(self, mesh_id: str, positions, face_sizes, face_vertices,
                       creases: Iterable[Tuple[int, int, float]] = (), corners: Iterable[Tuple[int, float]] = (),
                       holes: Sequence[int] = (), display_name: Optional[str] = None, boundary: Optional[str] = None,
-                      uvs=(), uv_indices=(), uv_interpolation: str = "all",
+                      uvs=(), uv_indices=(), uv_interpolation: str = "all", origin=(0.0, 0.0, 0.0),
                       timeout: Optional[float] = None) -> mesh_pb2.Mesh:
         """Uploads a mesh as arrays (lists or NumPy arrays): positions x, y, z per vertex (any shape
         that flattens to that), face sizes, face vertices counter-clockwise, creases (v0, v1,
         sharpness), corners (vertex, sharpness), hole faces, and optionally UVs (u, v per UV) with
         the UV of every face corner and OpenSubdiv's rule for them ("all", "none", "corners_only",
-        "corners_plus1", "corners_plus2", "boundaries"). Checks the server's stored checksum
-        against the one of what was sent."""
+        "corners_plus1", "corners_plus2", "boundaries"); `origin`, the point the positions are
+        relative to (a mesh far from the origin keeps its detail in float positions). Checks the
+        server's stored checksum against the one of what was sent."""
         positions = _flat(positions, float)
         face_sizes, face_vertices = _flat(face_sizes, int), _flat(face_vertices, int)
         creases = [(int(a), int(b), float(s)) for a, b, s in creases]
         corners = [(int(v), float(s)) for v, s in corners]
         holes = _flat(holes, int)
         uvs, uv_indices = _flat(uvs, float), _flat(uv_indices, int)
+        origin = tuple(float(c) for c in origin)
         total = 4 * (len(positions) + len(face_sizes) + len(face_vertices) + len(holes) + len(uvs) + len(uv_indices)) \
-            + 12 * len(creases) + 8 * len(corners)
+            + 12 * len(creases) + 8 * len(corners) + (24 if any(origin) else 0)
         header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id, display_name=display_name or "",
                                            format=mesh_pb2.MESH_FORMAT_ARRAYS, total_bytes=total,
                                            options=mesh_pb2.SubdivisionOptions(
@@ -258,6 +260,9 @@ class TesseraClient:
                 arrays = mesh_pb2.MeshArrays(creases=[mesh_pb2.Crease(v0=a, v1=b, sharpness=s)
                                                       for a, b, s in creases[offset:offset + CHUNK_VALUES // 3]])
                 yield mesh_pb2.UploadMeshRequest(arrays=arrays)
+            if any(origin):
+                yield mesh_pb2.UploadMeshRequest(arrays=mesh_pb2.MeshArrays(
+                    origin=geometry_pb2.Vec3(x=origin[0], y=origin[1], z=origin[2])))
             for offset in range(0, len(corners), CHUNK_VALUES // 2):
                 arrays = mesh_pb2.MeshArrays(corners=[mesh_pb2.Corner(vertex=v, sharpness=s)
                                                       for v, s in corners[offset:offset + CHUNK_VALUES // 2]])
@@ -266,7 +271,7 @@ class TesseraClient:
         mesh = self._call(lambda t: self._meshes.UploadMesh(messages(), timeout=t, metadata=self._metadata), timeout)
         boundary_value = _BOUNDARY[boundary] or BOUNDARY_EDGE_ONLY
         expected = canonical_sha256(positions, face_sizes, face_vertices, creases, corners, holes, boundary_value,
-                                    uvs, uv_indices, uv_interpolation)
+                                    uvs, uv_indices, uv_interpolation, origin)
         if mesh.sha256 != expected:
             raise IntegrityError(f"the server stored {mesh.name} with sha256 {mesh.sha256}, "
                                  f"but what was sent has {expected}")
