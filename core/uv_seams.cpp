@@ -63,6 +63,7 @@ CornerKey keyOf(const FaceCorners& faces, int face, int subFace, double u, doubl
 template <typename T>
 void repeat(std::vector<T>& values, size_t per, const std::vector<uint32_t>& sources) {
   if (values.empty()) return;
+  values.reserve(values.size() + per * sources.size());  // the copies read the vector they grow
   for (uint32_t s : sources) {
     for (size_t c = 0; c < per; ++c) values.push_back(values[per * s + c]);
   }

@@ -34,7 +34,8 @@ def read_glb(glb: bytes) -> dict:
     if "extensionsRequired" in document:
         raise ValueError("the GLB needs " + ", ".join(document["extensionsRequired"]) + "; ask for the float encoding")
     attributes = primitive["attributes"]
-    y_up = accessor(attributes["POSITION"]).astype(np.float64)
+    # The node's translation: the mesh's origin when it lies far from the origin (docs/FAR-FROM-ORIGIN.md).
+    y_up = accessor(attributes["POSITION"]).astype(np.float64) + np.array(document["nodes"][0].get("translation", [0, 0, 0]))
     normals = accessor(attributes["NORMAL"]).astype(np.float64)
     return {
         "positions": np.stack([y_up[:, 0], -y_up[:, 2], y_up[:, 1]], axis=1),  # from_y_up
