@@ -122,7 +122,7 @@ TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh&
   s.averageDepth = plan.averageDepth;
   s.maxDepth = plan.maxDepth;
   s.guaranteedBound = plan.guaranteedBound + options.encodingReserve;
-  s.tolerance = options.uniformLevel > 0 ? plan.tolerance : plan.tolerance + options.encodingReserve;
+  s.tolerance = options.uniformLevel > 0 ? 0.0 : plan.tolerance + options.encodingReserve;  // a level asks for none
   result.plan = std::move(plan);
   return result;
 }

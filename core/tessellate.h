@@ -22,7 +22,7 @@ struct TessellationSummary {
   double averageDepth = 0;
   int maxDepth = 0;
   double guaranteedBound = 0;  // distance to the limit surface the output is proven to stay within
-  double tolerance = 0;        // ε in object space (smallest per-piece ε in pixel mode)
+  double tolerance = 0;        // ε in object space (smallest per-piece ε in pixel mode; 0 for a uniform level)
   double planMs = 0, tessellateMs = 0;
 };
 

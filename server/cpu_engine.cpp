@@ -74,6 +74,7 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
   output.summary.averageDepth = s.averageDepth;
   output.summary.maxDepth = s.maxDepth;
   output.summary.guaranteedBound = s.guaranteedBound;
+  output.summary.tolerance = s.tolerance;  // what was used: in pixel mode the smallest piece's ε
   progress("done", 1.0);
   return output;
 }

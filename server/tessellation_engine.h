@@ -78,7 +78,7 @@ struct TessellationSummary {
   double averageDepth = 0.0;
   int maxDepth = 0;
   double guaranteedBound = 0.0;  // proven distance bound to the limit surface, model units
-  double tolerance = 0.0;        // ε the engine used (smallest per-piece ε in pixel mode); 0: job's
+  double tolerance = 0.0;        // ε the engine used (smallest per-piece ε in pixel mode; 0 for a uniform level)
   std::vector<StageTime> timings;
 };
 

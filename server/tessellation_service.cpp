@@ -68,7 +68,7 @@ void sendGlb(Writer& writer, const std::vector<uint8_t>& glb, const Cancellation
   }
 }
 
-void sendSummary(Writer& writer, const TessellationOutput& output, const TessellationJob& job) {
+void sendSummary(Writer& writer, const TessellationOutput& output) {
   v1::TessellateResponse message;
   v1::TessellationSummary* s = message.mutable_summary();
   const TessellationSummary& in = output.summary;
@@ -78,7 +78,7 @@ void sendSummary(Writer& writer, const TessellationOutput& output, const Tessell
   s->set_average_depth(in.averageDepth);
   s->set_max_depth(in.maxDepth);
   s->set_guaranteed_bound(in.guaranteedBound);
-  s->set_tolerance(in.tolerance > 0 ? in.tolerance : job.tolerance);
+  s->set_tolerance(in.tolerance);
   for (const StageTime& t : in.timings) {
     v1::StageTiming* timing = s->add_timings();
     timing->set_stage(t.stage);
@@ -123,7 +123,7 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
       }
     }
     sendGlb(*writer, output.glb, cancel);
-    sendSummary(*writer, output, job);
+    sendSummary(*writer, output);
     metrics_.trianglesProduced.add({}, static_cast<double>(output.summary.triangles));
     metrics_.glbBytesSent.add({}, static_cast<double>(output.glb.size()));
     metrics_.notes.note(context, "mesh", id);

@@ -43,6 +43,13 @@ CliRun runCli(const std::string& args) {
   return run;
 }
 
+// The tolerance in the "guaranteed bound B (tolerance T)" line the local tessellate prints; -1 if absent.
+double printedTolerance(const std::string& output) {
+  std::smatch match;
+  static const std::regex line(R"(\(tolerance ([0-9.e+-]+)\))");
+  return std::regex_search(output, match, line) ? std::stod(match[1]) : -1;
+}
+
 // The "triangles  N" line the local tessellate prints; -1 if absent.
 int64_t printedTriangles(const std::string& output) {
   std::smatch match;
@@ -103,12 +110,13 @@ class TessellationEndToEnd : public StoreTest {
 
   // Writes the in-process result of `tessera tessellate <model>.obj cliArgs` and returns it.
   std::string tessellateInProcess(const std::string& model, const std::string& cliArgs,
-                                  int64_t* triangles) {
+                                  int64_t* triangles, double* tolerance) {
     std::filesystem::path out = dir_.path() / (model + "-cli.glb");
     CliRun run = runCli("tessellate " + modelPath(model + ".obj").string() + " " + cliArgs +
                         " -o " + out.string());
     EXPECT_EQ(run.code, 0) << run.output;
     *triangles = printedTriangles(run.output);
+    *tolerance = printedTolerance(run.output);
     return readFile(out);
   }
 
@@ -121,12 +129,15 @@ class TessellationEndToEnd : public StoreTest {
     ASSERT_TRUE(remote.status.ok()) << remote.status.error_message();
     ASSERT_EQ(remote.problem, "");
     int64_t cliTriangles = -1;
-    std::string local = tessellateInProcess(model, cliArgs, &cliTriangles);
+    double cliTolerance = -1;
+    std::string local = tessellateInProcess(model, cliArgs, &cliTriangles, &cliTolerance);
     ASSERT_FALSE(local.empty());
     EXPECT_EQ(remote.glb.size(), local.size());
     EXPECT_TRUE(remote.glb == local) << "the streamed GLB differs from the CLI's";
     EXPECT_EQ(remote.summary->triangles(), cliTriangles);
     EXPECT_EQ(remote.summary->triangles(), glbTriangles(remote.glb));
+    // The tolerance used (in pixel mode the smallest piece's ε), as the CLI prints it (6 digits).
+    EXPECT_NEAR(remote.summary->tolerance(), cliTolerance, 1e-5 * cliTolerance);
     // Every benchmark model's OBJ has texture coordinates: they come back as TEXCOORD_0.
     EXPECT_TRUE(glbHasTexcoords(remote.glb));
   }
