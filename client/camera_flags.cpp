@@ -1,7 +1,6 @@
 #include "client/camera_flags.h"
 
-#include <cstdio>
-
+#include "client/flag_values.h"
 #include "core/error.h"
 
 namespace tessera::cli {
@@ -9,19 +8,15 @@ namespace tessera::cli {
 namespace {
 
 Vec3d parseVector(const std::string& text, const char* flag) {
-  double x, y, z;
-  char extra;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &extra) != 3) {
-    throwInvalid(std::string("--") + flag + " expects X,Y,Z, got '" + text + "'");
-  }
-  return {x, y, z};
+  const std::optional<FlagVector> v = parseXyz(text);
+  if (!v) throwInvalid(std::string("--") + flag + " expects X,Y,Z, got '" + text + "'");
+  return {v->x, v->y, v->z};
 }
 
 void parseSize(const std::string& text, int& width, int& height) {
-  char extra;
-  if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &extra) != 2) {
-    throwInvalid("--size expects WIDTHxHEIGHT, got '" + text + "'");
-  }
+  const std::optional<FlagSize> size = parseWxH(text);
+  if (!size) throwInvalid("--size expects WIDTHxHEIGHT, got '" + text + "'");
+  width = size->width, height = size->height;
 }
 
 }  // namespace

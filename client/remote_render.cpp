@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -13,6 +12,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "client/flag_values.h"
 #include "client/remote_progress.h"
 #include "tessera/v1/render.grpc.pb.h"
 
@@ -36,12 +36,9 @@ struct Vector {
 };
 
 Vector parseVector(const std::string& text, const char* flag) {
-  Vector v;
-  char tail;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &v.x, &v.y, &v.z, &tail) != 3) {
-    throw UsageError(fmt::format("{} expects X,Y,Z (got \"{}\")", flag, text));
-  }
-  return v;
+  const std::optional<cli::FlagVector> v = cli::parseXyz(text);
+  if (!v) throw UsageError(fmt::format("{} expects X,Y,Z (got \"{}\")", flag, text));
+  return {v->x, v->y, v->z};
 }
 
 v1::Vec3 toProto(const Vector& v) {
@@ -70,13 +67,10 @@ std::vector<v1::Camera> buildCameras(const RemoteRenderArgs& a) {
   *base.mutable_target() = toProto(target);
   *base.mutable_up() = toProto(up);
   base.set_fov_y_deg(a.fovDeg);
-  int width, height;
-  char tail;
-  if (std::sscanf(a.size.c_str(), "%dx%d%c", &width, &height, &tail) != 2) {
-    throw UsageError(fmt::format("--size expects WIDTHxHEIGHT (got \"{}\")", a.size));
-  }
-  base.set_width(width);
-  base.set_height(height);
+  const std::optional<cli::FlagSize> size = cli::parseWxH(a.size);
+  if (!size) throw UsageError(fmt::format("--size expects WIDTHxHEIGHT (got \"{}\")", a.size));
+  base.set_width(size->width);
+  base.set_height(size->height);
   if (a.turntable < 0) throw UsageError("--turntable expects a positive number of frames");
   const int count = std::max(1, a.turntable);
   double upLength = std::sqrt(up.x * up.x + up.y * up.y + up.z * up.z);

@@ -3,13 +3,13 @@
 #include <fmt/format.h>
 #include <openssl/evp.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
 
 #include "client/commands.h"
+#include "client/flag_values.h"
 #include "client/remote_progress.h"
 #include "core/error.h"
 #include "core/glb_writer.h"
@@ -27,24 +27,18 @@ class UsageError : public std::runtime_error {
 };
 
 v1::Vec3 parseVec3(const std::string& text, const char* flag) {
-  double x, y, z;
-  char tail;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &tail) != 3) {
-    throw UsageError(fmt::format("{} expects X,Y,Z (got \"{}\")", flag, text));
-  }
+  const std::optional<cli::FlagVector> parsed = cli::parseXyz(text);
+  if (!parsed) throw UsageError(fmt::format("{} expects X,Y,Z (got \"{}\")", flag, text));
   v1::Vec3 v;
-  v.set_x(x), v.set_y(y), v.set_z(z);
+  v.set_x(parsed->x), v.set_y(parsed->y), v.set_z(parsed->z);
   return v;
 }
 
 void parseSize(const std::string& text, v1::Camera& camera) {
-  int width, height;
-  char tail;
-  if (std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &tail) != 2) {
-    throw UsageError(fmt::format("--size expects WIDTHxHEIGHT (got \"{}\")", text));
-  }
-  camera.set_width(width);
-  camera.set_height(height);
+  const std::optional<cli::FlagSize> size = cli::parseWxH(text);
+  if (!size) throw UsageError(fmt::format("--size expects WIDTHxHEIGHT (got \"{}\")", text));
+  camera.set_width(size->width);
+  camera.set_height(size->height);
 }
 
 void setPixelTolerance(const RemoteTessellateArgs& a, v1::TessellateRequest& request) {
