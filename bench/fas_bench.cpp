@@ -17,6 +17,7 @@
 #include "bench/machine_load.h"
 #include "bench/osd_ring_stencils.h"
 #include "bench/ring_workload.h"
+#include "bench/touched_buffer.h"
 #include "bench/write_floor.h"
 #include "core/fas.h"
 
@@ -93,8 +94,8 @@ double timeIterations(benchmark::State& state, Work work) {
 struct CerCase : CaseState {
   RingRules rules;
   int blockCount = 0;
-  std::unique_ptr<TouchedBuffer> blocks;  // packed input, same kind of pages as the output
-  std::unique_ptr<TouchedBuffer> output;
+  std::unique_ptr<TouchedBuffer<float>> blocks;  // packed input, same kind of pages as the output
+  std::unique_ptr<TouchedBuffer<float>> output;
 };
 
 std::unique_ptr<CaseState> prepareCer(const cer::RingShape& shape, int depth) {
@@ -106,10 +107,10 @@ std::unique_ptr<CaseState> prepareCer(const cer::RingShape& shape, int depth) {
     packed = packRingBlocks(shape, rings.data(), kTableRings);
   }
   c->blockCount = int(packed.size() / ringBlockFloats(shape));
-  c->blocks = std::make_unique<TouchedBuffer>(packed.size());
+  c->blocks = std::make_unique<TouchedBuffer<float>>(packed.size());
   std::memcpy(c->blocks->data(), packed.data(), packed.size() * sizeof(float));
   c->output =
-      std::make_unique<TouchedBuffer>(size_t(c->blockCount) * depth * refinedBlockFloats(shape));
+      std::make_unique<TouchedBuffer<float>>(size_t(c->blockCount) * depth * refinedBlockFloats(shape));
   return c;
 }
 
@@ -152,7 +153,7 @@ void BM_CerKernel(benchmark::State& state) {
 
 struct OsdCase : CaseState {
   RingStencils stencils;
-  std::unique_ptr<TouchedBuffer> source, result;
+  std::unique_ptr<TouchedBuffer<float>> source, result;
   std::string error;  // non-empty: OSD disagrees with FAS, the case is skipped
 };
 
@@ -200,9 +201,9 @@ std::unique_ptr<CaseState> prepareOsd(const cer::RingShape& shape, int depth, Os
   const std::vector<float> distinct = distinctRings(shape);
   c->stencils = buildRingStencils(distinctRingMesh(shape, 0), shape, depth);
   if (osd.balanced) c->stencils = balanceForStaticSchedule(c->stencils, kThreads);
-  c->source = std::make_unique<TouchedBuffer>(size_t(kTableRings) * shape.ringPointCount() * 3);
+  c->source = std::make_unique<TouchedBuffer<float>>(size_t(kTableRings) * shape.ringPointCount() * 3);
   fillChunkedRings(shape, distinct, kTableRings, osd.chunkRings, c->source->data());
-  c->result = std::make_unique<TouchedBuffer>(size_t(kTableRings) * c->stencils.count() * 3);
+  c->result = std::make_unique<TouchedBuffer<float>>(size_t(kTableRings) * c->stencils.count() * 3);
   omp_set_num_threads(kThreads);
   evalChunkedStencils(c->stencils, c->source->data(), c->result->data(), kTableRings,
                       osd.chunkRings);
@@ -264,7 +265,7 @@ void BM_Fas_OsdStencilBuild(benchmark::State& state) {
 // ---- Memory write floor ----------------------------------------------------------------------
 
 struct FloorCase : CaseState {
-  TouchedBuffer buffer{kFloorBufferBytes / sizeof(float)};
+  TouchedBuffer<float> buffer{kFloorBufferBytes / sizeof(float)};
 };
 
 void BM_WriteFloor(benchmark::State& state, WriteMethod method, int threads) {

@@ -1,6 +1,5 @@
 #include "bench/ring_workload.h"
 
-#include <sys/mman.h>
 
 #include <cstdlib>
 #include <cstring>
@@ -11,7 +10,6 @@
 namespace tessera::bench {
 
 namespace {
-constexpr size_t kHugePage = size_t(2) << 20;
 }
 
 size_t refinedBytes(const cer::RingShape& shape, int depth, int rings) {
@@ -41,20 +39,6 @@ std::vector<float> tiledRings(const cer::RingShape& shape, const std::vector<flo
                 ringFloats * sizeof(float));
   }
   return tiled;
-}
-
-TouchedBuffer::TouchedBuffer(size_t floats) : floats_(floats) {
-  // Huge-page alignment lets madvise back the whole range with 2 MiB pages: fewer TLB misses
-  // for every method alike, so the comparison measures the methods, not page walks.
-  size_t bytes = (floats * sizeof(float) + kHugePage - 1) / kHugePage * kHugePage;
-  data_ = static_cast<float*>(std::aligned_alloc(kHugePage, bytes == 0 ? kHugePage : bytes));
-  if (data_ == nullptr) throw std::bad_alloc();
-  madvise(data_, bytes, MADV_HUGEPAGE);  // advisory: a refusal only costs speed
-  std::memset(data_, 0, bytes);
-}
-
-TouchedBuffer::~TouchedBuffer() {
-  std::free(data_);
 }
 
 }  // namespace tessera::bench

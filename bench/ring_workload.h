@@ -31,25 +31,6 @@ std::vector<float> distinctRings(const cer::RingShape& shape);
 std::vector<float> tiledRings(const cer::RingShape& shape, const std::vector<float>& distinct,
                               int rings);
 
-// A 64-byte aligned float array, on transparent huge pages where the kernel grants them, and
-// written once on construction so that no first-touch page fault lands in a timed region.
-class TouchedBuffer {
- public:
-  explicit TouchedBuffer(size_t floats);
-  ~TouchedBuffer();
-  TouchedBuffer(const TouchedBuffer&) = delete;
-  TouchedBuffer& operator=(const TouchedBuffer&) = delete;
-
-  float* data() { return data_; }
-  const float* data() const { return data_; }
-  size_t size() const { return floats_; }
-  size_t bytes() const { return floats_ * sizeof(float); }
-
- private:
-  float* data_ = nullptr;
-  size_t floats_ = 0;
-};
-
 // One benchmark case's prepared state (buffers, tables). Google Benchmark calls a benchmark
 // function several times while it settles the iteration count; the slot keeps the state of the
 // case being measured and frees it as soon as another case asks, so at most one case's

@@ -49,12 +49,12 @@ struct UniformCase : TessCase {
   // Tessera: the grid is kept from frame to frame, as a viewer would keep it
   UniformGrid grid;
   size_t tessSamples = 0, pieces = 0;
-  std::unique_ptr<OutputBuffer<Vec3>> tessOut;
+  std::unique_ptr<TouchedBuffer<Vec3>> tessOut;
   double tessError = -1;  // max distance of checked samples to the limit surface / diagonal
   double tessInnermostError = -1;  // the same over innermost (approximated) pieces only
   // OpenSubdiv
   std::unique_ptr<OsdUniformSamples> osd;
-  std::unique_ptr<OutputBuffer<float>> osdOut;
+  std::unique_ptr<TouchedBuffer<float>> osdOut;
   bool bfrPrepared = false, evalPrepared = false;
   double stencilMs = 0, evalVsBfr = -1, bfrError = -1;
   std::string error;
@@ -77,7 +77,7 @@ void prepareTessera(UniformCase& c) {
   planUniformGrid(patches, c.level, c.grid);
   c.tessSamples = c.grid.samples();
   c.pieces = c.grid.pieces.size();
-  c.tessOut = std::make_unique<OutputBuffer<Vec3>>(c.tessSamples);
+  c.tessOut = std::make_unique<TouchedBuffer<Vec3>>(c.tessSamples);
   evaluateUniformGrid(patches, c.grid, c.tessOut->data());
   TessellationOptions options;
   options.uniformLevel = c.level;
@@ -133,7 +133,7 @@ UniformCase* osdCase(benchmark::State& state, const std::string& name, int p) {
     UniformCase& c = uniformCase(name, p);
     if (!c.osd) {
       c.osd = std::make_unique<OsdUniformSamples>(c.model->mesh, p);
-      c.osdOut = std::make_unique<OutputBuffer<float>>(3 * c.osd->samples());
+      c.osdOut = std::make_unique<TouchedBuffer<float>>(3 * c.osd->samples());
     }
     return &c;
   } catch (const std::exception& e) {

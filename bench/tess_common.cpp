@@ -1,6 +1,5 @@
 #include "bench/tess_common.h"
 
-#include <sys/mman.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -16,7 +15,6 @@
 namespace tessera::bench {
 
 namespace {
-constexpr size_t kHugePage = size_t(2) << 20;
 }
 
 std::string tessModelsDir() {
@@ -45,19 +43,6 @@ const LoadedModel& loadedModel(const std::string& name) {
   }
   return *slot;
 }
-
-void* allocateTouched(size_t bytes) {
-  // Huge-page alignment lets madvise back the range with 2 MiB pages: fewer TLB misses for
-  // every method alike, so the comparison measures the methods, not page walks.
-  size_t rounded = std::max(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
-  void* data = std::aligned_alloc(kHugePage, rounded);
-  if (data == nullptr) throw std::bad_alloc();
-  madvise(data, rounded, MADV_HUGEPAGE);  // advisory: a refusal only costs speed
-  std::memset(data, 0, rounded);
-  return data;
-}
-
-void freeTouched(void* data) { std::free(data); }
 
 void calibrateWriteFloor() {
   static std::once_flag once;

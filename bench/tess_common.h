@@ -1,6 +1,5 @@
 // What the tessellation benchmarks (tess_bench.cpp: the paper's Table 2, Fig. 5, Fig. 6 and a
-// tightness measurement) share: the paper's five models loaded once per process, a touched
-// output buffer, wall-clock timing of multi-threaded work with the machine's load beside it,
+// tightness measurement) share: the paper's five models loaded once per process, wall-clock timing of multi-threaded work with the machine's load beside it,
 // and the write-floor counters (write_floor.h).
 #pragma once
 
@@ -14,6 +13,7 @@
 #include <vector>
 
 #include "bench/machine_load.h"
+#include "bench/touched_buffer.h"
 #include "core/control_mesh.h"
 #include "core/patch_set.h"
 
@@ -39,38 +39,6 @@ struct LoadedModel {
 
 // Reads and preprocesses a model the first time it is asked for; kept for the whole run.
 const LoadedModel& loadedModel(const std::string& name);
-
-// A 64-byte aligned array on huge pages where granted, written once when made so that no page
-// fault lands in a timed region.
-template <class T>
-class OutputBuffer {
- public:
-  explicit OutputBuffer(size_t count);
-  ~OutputBuffer();
-  OutputBuffer(const OutputBuffer&) = delete;
-  OutputBuffer& operator=(const OutputBuffer&) = delete;
-  T* data() { return data_; }
-  const T* data() const { return data_; }
-  size_t size() const { return count_; }
-  size_t bytes() const { return count_ * sizeof(T); }
-
- private:
-  T* data_ = nullptr;
-  size_t count_ = 0;
-};
-
-void* allocateTouched(size_t bytes);
-void freeTouched(void* data);
-
-template <class T>
-OutputBuffer<T>::OutputBuffer(size_t count)
-    : data_(static_cast<T*>(allocateTouched(count * sizeof(T)))), count_(count) {
-  static_assert(std::is_trivially_copyable_v<T>);
-}
-template <class T>
-OutputBuffer<T>::~OutputBuffer() {
-  freeTouched(data_);
-}
 
 // Times `work` per iteration with the wall clock (the work runs on every core) and reports
 // others_cpu: the share of the machine other processes took meanwhile (machine_load.h).

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "bench/ring_workload.h"
+#include "bench/touched_buffer.h"
 
 namespace tessera::bench {
 
@@ -107,7 +108,7 @@ double bestWriteBandwidth() {
   }
   // The host's memory bandwidth varies from pass to pass (other tenants), so take the best of
   // many passes: the floor is the least time the writes could take.
-  TouchedBuffer buffer(kFloorBufferBytes / sizeof(float));
+  TouchedBuffer<float> buffer(kFloorBufferBytes / sizeof(float));
   for (WriteMethod method :
        {WriteMethod::kStreamAvx2, WriteMethod::kStreamAvx512, WriteMethod::kMemset}) {
     if (!writeMethodAvailable(method)) continue;
