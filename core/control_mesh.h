@@ -84,6 +84,7 @@ struct ControlMesh {
   Vec3d origin{0, 0, 0};
 
   bool hasUvs() const { return !uvIndices.empty(); }
+  bool hasOrigin() const { return origin.x != 0 || origin.y != 0 || origin.z != 0; }
   int vertexCount() const { return static_cast<int>(positions.size()); }
   int faceCount() const { return static_cast<int>(faceSizes.size()); }
 };

@@ -199,12 +199,9 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   if (compress && index.owned.empty() && index.shortIndices.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
   result.views.push_back(std::move(index));
   if (!mesh.uvs.empty()) {
-    std::vector<float> uvs(2 * stored);
-    for (size_t k = 0; k < stored; ++k) uvs[2 * k] = mesh.uvs[2 * order[k]], uvs[2 * k + 1] = mesh.uvs[2 * order[k] + 1];
-    View view = uvView(uvs);
-    view.owned.assign(view.data, view.data + view.size);
-    view.data = view.owned.data();
-    result.views.push_back(std::move(view));
+    std::vector<std::array<float, 2>> uvs(stored);
+    for (size_t k = 0; k < stored; ++k) uvs[k] = {mesh.uvs[2 * order[k]], mesh.uvs[2 * order[k] + 1]};
+    result.views.push_back(ownedViewOf(uvs));
   }
   if (compress) {
     useSpecifiedCodecVersions();

@@ -121,7 +121,7 @@ std::string encodeCanonicalMesh(const ControlMesh& mesh) {
     w.u64(mesh.uvIndices.size());
     for (int i : mesh.uvIndices) w.i32(i);
   }
-  if (mesh.origin.x != 0 || mesh.origin.y != 0 || mesh.origin.z != 0) {
+  if (mesh.hasOrigin()) {
     w.bytes(kOriginTag);
     w.f64(mesh.origin.x), w.f64(mesh.origin.y), w.f64(mesh.origin.z);
   }

@@ -73,22 +73,21 @@ void forgetParameters(TriangleMesh& mesh) {
 
 }  // namespace
 
+// A camera is in model units; the surface is relative to the mesh's origin, and so is the output.
 // A mesh with UVs is tessellated with its triangles' parameters recorded, where its UVs are
 // evaluated (core/uv_seams.h).
-// A camera is in model units; the surface is relative to the mesh's origin, and so is the output.
 TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
                               const TessellationOptions& options) {
   validateTessellationOptions(options);
   TessellationOptions relative = options;
-  if (relative.camera) relative.camera->eye = relative.camera->eye - mesh.origin, relative.camera->target = relative.camera->target - mesh.origin;
-  if (!patches.uvs) {
-    TessellationResult result = tessellateSurface(patches, mesh, relative);
-    result.mesh.origin = mesh.origin;
-    return result;
+  if (relative.camera) {
+    relative.camera->eye = relative.camera->eye - mesh.origin;
+    relative.camera->target = relative.camera->target - mesh.origin;
   }
-  relative.recordParameters = true;
+  relative.recordParameters = options.recordParameters || patches.uvs;
   TessellationResult result = tessellateSurface(patches, mesh, relative);
   result.mesh.origin = mesh.origin;
+  if (!patches.uvs) return result;
   attachUvs(mesh, *patches.uvs, cornerParameters(result), result.mesh);
   if (!options.recordParameters) forgetParameters(result.mesh);
   result.summary.vertices = int64_t(result.mesh.positions.size());

@@ -152,7 +152,7 @@ bool forEachArraysChunk(const ControlMesh& mesh, size_t maxBytes,
          sendRuns(mesh.holes.size(), [&](size_t i) { chunk.add_holes(mesh.holes[i]); }) &&
          sendRuns(mesh.uvs.size(), [&](size_t i) { chunk.add_uvs(mesh.uvs[i]); }) &&
          sendRuns(mesh.uvIndices.size(), [&](size_t i) { chunk.add_uv_indices(mesh.uvIndices[i]); }) &&
-         sendRuns(mesh.origin.x != 0 || mesh.origin.y != 0 || mesh.origin.z != 0 ? 1 : 0, [&](size_t) {
+         sendRuns(mesh.hasOrigin() ? 1 : 0, [&](size_t) {
            toProto(mesh.origin, chunk.mutable_origin());
          });
 }
