@@ -71,8 +71,7 @@ void frames(benchmark::State& state, const std::string& name, int uniformLevel) 
     r.camera = sweep[size_t(v) * sweep.size() / kFrameViews];
     r.maxTriangles = 100'000'000;
     if (uniformLevel > 0) {
-      r.mode = AccuracyMode::kUniformLevel;
-      r.uniformLevel = uniformLevel;
+      r.accuracy = Accuracy::uniformLevel(uniformLevel);
     }
     requests.push_back(r);
   }

@@ -47,8 +47,7 @@ const Loaded& loaded(const std::string& name) {
 
 Case prepare(const Loaded& m, double eps, GlbEncoding encoding) {
   Case c;
-  c.options.tolerance = eps;
-  c.options.relativeTolerance = true;
+  c.options.accuracy = Accuracy::relative(eps);
   c.positions = reserveForEncoding(encoding, m.patches, c.options);
   c.result = tessellate(m.patches, m.mesh, c.options);
   return c;

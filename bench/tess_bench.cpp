@@ -80,7 +80,7 @@ void prepareTessera(UniformCase& c) {
   c.tessOut = std::make_unique<TouchedBuffer<Vec3>>(c.tessSamples);
   evaluateUniformGrid(patches, c.grid, c.tessOut->data());
   TessellationOptions options;
-  options.uniformLevel = c.level;
+  options.accuracy = Accuracy::uniformLevel(c.level);
   const TessellationPlan plan = planTessellation(patches, options);
   bool samePieces = plan.pieces.size() == c.pieces;
   for (size_t q = 0; samePieces && q < c.pieces; ++q)

@@ -105,8 +105,7 @@ void BM_DepthEstimate_ControlMesh(benchmark::State& state, std::string name) {
 void BM_TessEta(benchmark::State& state, std::string name, int eta10) {
   const LoadedModel& model = loadedModel(name);
   TessellationOptions options;
-  options.tolerance = kFig5Tolerance;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(kFig5Tolerance);
   options.eta = eta10 / 10.0;
   TessellationSummary summary;
   size_t ringTriangles = 0;
@@ -150,7 +149,7 @@ void BM_TessEtaRings(benchmark::State& state, std::string name, int eta10) {
   const LoadedModel& model = loadedModel(name);
   const PatchSet& rings = ringsOnly(model);
   TessellationOptions options;
-  options.tolerance = kFig5Tolerance * model.diagonal;  // the whole model's ε, absolute
+  options.accuracy = Accuracy::absolute(kFig5Tolerance * model.diagonal);  // the whole model's ε
   options.eta = eta10 / 10.0;
   TessellationSummary summary;
   double planMs = 0, meshMs = 0;
@@ -173,8 +172,7 @@ void BM_TessEtaRings(benchmark::State& state, std::string name, int eta10) {
 void BM_Tightness(benchmark::State& state, std::string name, double relative) {
   const LoadedModel& model = loadedModel(name);
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   options.recordParameters = true;
   static const double kBarycentric[7][3] = {{1, 0, 0},     {0, 1, 0},   {0, 0, 1},          {0.5, 0.5, 0},
                                             {0, 0.5, 0.5}, {0.5, 0, 0.5}, {1 / 3.0, 1 / 3.0, 1 / 3.0}};

@@ -129,8 +129,7 @@ OracleRate oracleRate(const std::string& name, double eps) {
 
 TessellationOptions optionsAt(double eps) {
   TessellationOptions options;
-  options.tolerance = eps;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(eps);
   options.maxTriangles = 200'000'000;
   return options;
 }

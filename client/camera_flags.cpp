@@ -42,14 +42,14 @@ void TessellateFlags::addTo(CLI::App& command) {
 
 TessellationOptions TessellateFlags::toOptions() const {
   TessellationOptions options;
-  options.tolerance = tolerance;
-  options.relativeTolerance = relative;
   options.eta = eta;
-  options.uniformLevel = level;
   options.maxTriangles = maxTriangles;
-  options.pixelAccuracy = pixelAccuracy;
   if (level == 0 && tolerance == 0 && eye.empty()) throwInvalid("give --tolerance, --level, or a camera (--eye/--target)");
-  if (!eye.empty() || !target.empty()) {
+  // A level decides alone; else a camera makes the accuracy pixels on its screen.
+  if (level != 0) {
+    options.accuracy = Accuracy::uniformLevel(level);
+    validateAccuracy(options.accuracy, "--level");
+  } else if (!eye.empty() || !target.empty()) {
     if (eye.empty() || target.empty()) throwInvalid("a camera needs both --eye and --target");
     Camera camera;
     camera.eye = parseVector(eye, "eye");
@@ -57,8 +57,13 @@ TessellationOptions TessellateFlags::toOptions() const {
     camera.up = parseVector(up, "up");
     camera.fovYDegrees = fov;
     parseSize(size, camera.width, camera.height);
+    validateCamera(camera, "camera");
+    options.accuracy = Accuracy::pixel(pixelAccuracy);
+    validateAccuracy(options.accuracy, "--pixel-accuracy");
     options.camera = camera;
-    if (tolerance == 0) options.tolerance = 1;  // unused: the camera sets ε
+  } else {
+    options.accuracy = relative ? Accuracy::relative(tolerance) : Accuracy::absolute(tolerance);
+    validateAccuracy(options.accuracy, "--tolerance");
   }
   validateTessellationOptions(options);
   return options;

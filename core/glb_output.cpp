@@ -13,7 +13,7 @@ std::optional<PositionQuantization> reserveForEncoding(GlbEncoding encoding,
   options.encodingReserve = 0;
   if (encoding == GlbEncoding::kFloat) return std::nullopt;
   const PositionQuantization grid = quantizationForBox(patches.boundsMin, patches.boundsMax);
-  if (options.uniformLevel > 0) {
+  if (options.accuracy.uniform()) {
     options.encodingReserve = grid.maxError;
     return grid;
   }
@@ -50,10 +50,10 @@ GlbOptions glbOptionsFor(const GlbRequest& request, const TessellationOptions& o
   d.sourceName = request.sourceName;
   d.sourceSha256 = request.sourceSha256;
   d.guaranteedBound = summary.guaranteedBound;
-  if (options.uniformLevel > 0) {
-    d.uniformLevel = options.uniformLevel;
-  } else if (options.camera) {
-    d.pixelAccuracy = options.pixelAccuracy;
+  if (options.accuracy.uniform()) {
+    d.uniformLevel = options.accuracy.level;
+  } else if (options.accuracy.pixelAccurate()) {
+    d.pixelAccuracy = options.accuracy.pixels;
   } else {
     d.tolerance = summary.tolerance;
   }

@@ -97,7 +97,7 @@ TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
 namespace {
 
 TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh& mesh, const TessellationOptions& options) {
-  if (options.uniformLevel == 0 && options.eta > 0 && patches.adaptive) return tessellateToTolerance(patches, options);
+  if (!options.accuracy.uniform() && options.eta > 0 && patches.adaptive) return tessellateToTolerance(patches, options);
   auto start = std::chrono::steady_clock::now();
   TessellationPlan plan = planTessellation(patches, options);
   TessellationResult result;
@@ -121,7 +121,7 @@ TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh&
   s.averageDepth = plan.averageDepth;
   s.maxDepth = plan.maxDepth;
   s.guaranteedBound = plan.guaranteedBound + options.encodingReserve;
-  s.tolerance = options.uniformLevel > 0 ? 0.0 : plan.tolerance + options.encodingReserve;  // a level asks for none
+  s.tolerance = options.accuracy.uniform() ? 0.0 : plan.tolerance + options.encodingReserve;  // a level asks for none
   result.plan = std::move(plan);
   return result;
 }

@@ -1,30 +1,22 @@
-// What a tessellation request asks for: a tolerance (absolute, relative to the bounding-box
-// diagonal, or pixel accuracy for a camera), the η split, or a uniform level for benchmarks.
+// What a tessellation request asks for: an accuracy (core/accuracy.h) with its camera when it
+// is pixel-accurate, the η split, budgets and the caller's hooks.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <optional>
 
-#include "core/vec3.h"
+#include "core/accuracy.h"
+#include "core/camera.h"
 
 namespace tessera {
 
-struct Camera {
-  Vec3d eye, target, up{0, 1, 0};
-  double fovYDegrees = 45;
-  int width = 1920, height = 1080;
-};
-
 struct TessellationOptions {
-  double tolerance = 1e-3;        // absolute, or a fraction of the diagonal when relative
-  bool relativeTolerance = false;
-  std::optional<Camera> camera;   // makes the tolerance pixel-accurate for this view
-  double pixelAccuracy = 0.5;     // in pixels, with a camera
+  Accuracy accuracy;
+  std::optional<Camera> camera;   // the view a pixel accuracy is for; only with Mode::kPixel
   // Share of ε for the Bézier approximation (paper §5.1), in [0, 1). 0 is the paper's
   // single-phase baseline: innermost quads become triangle pairs and the depth alone meets ε.
   double eta = 0.5;
-  int uniformLevel = 0;           // > 0: the paper's Table 2 setup instead of a tolerance
   int64_t maxTriangles = 20'000'000;
   // Model units of ε set aside for the output's encoding (quantized positions move each vertex by
   // at most this much, core/glb_output.h): the surface is planned to ε minus it everywhere and
@@ -40,12 +32,9 @@ struct TessellationOptions {
   std::function<void(int64_t triangles)> beforeOutput;
 };
 
-// Throws TesseraError (kInvalidInput) naming the bad field: zero, negative or non-finite
-// tolerance, η outside [0, 1), a degenerate camera, a non-positive viewport, a level outside
-// 1..4096.
+// Throws TesseraError (kInvalidInput) naming the bad field: the accuracy (validateAccuracy), a
+// pixel accuracy without its camera or a camera without a pixel accuracy, the camera
+// (validateCamera), η outside [0, 1), a non-positive triangle budget or a negative reserve.
 void validateTessellationOptions(const TessellationOptions& options);
-
-// Throws TesseraError (kInvalidInput) unless 1 <= p <= kMaxUniformLevel.
-void validateUniformLevel(int p);
 
 }  // namespace tessera

@@ -39,8 +39,8 @@ struct Planning {
 void assignLevel(BezierPiece& piece, const Planning& planning, double epsilon) {
   const TessellationOptions& options = planning.options;
   piece.tolerance = float(epsilon + piece.approximationBound);
-  if (options.uniformLevel > 0) {
-    piece.level = uniformPieceLevel(options.uniformLevel, piece.depth);
+  if (options.accuracy.uniform()) {
+    piece.level = uniformPieceLevel(options.accuracy.level, piece.depth);
     piece.tessellationBound =
         float(curvatureBound(piece.bezier.data()) / (8.0 * piece.level * piece.level));
     return;
@@ -128,8 +128,8 @@ RingLayout layoutRing(const RingSet& rings, size_t r, const Planning& planning) 
   const RingRules rules = rings.rules(r);
   const float* ring = rings.ringPoints(r);
   RingLayout layout;
-  if (options.uniformLevel > 0) {
-    layout.depth = uniformRingDepth(options.uniformLevel, rings.levels[r]);
+  if (options.accuracy.uniform()) {
+    layout.depth = uniformRingDepth(options.accuracy.level, rings.levels[r]);
     layout.bound = boundAtDepth(rules, ring, layout.depth);
     return layout;
   }
@@ -176,7 +176,7 @@ void planRingPieces(const RingSet& rings, size_t r, const RingLayout& layout,
     piece.approximationBound = float(layout.bound);
     piece.ring = static_cast<int>(r);
     double pieceEpsilon = planning.tolerance.forPoints(piece.bezier.data(), 16);
-    if (planning.options.eta == 0 && planning.options.uniformLevel == 0) {
+    if (planning.options.eta == 0 && !planning.options.accuracy.uniform()) {
       assignTrianglePair(piece, pieceEpsilon);
       return;
     }

@@ -8,9 +8,14 @@ namespace tessera {
 ToleranceModel::ToleranceModel(const TessellationOptions& options, const PatchSet& patches) {
   const double diagonal = length(Vec3d(patches.boundsMax) - Vec3d(patches.boundsMin));
   // A uniform level meets no ε: the reserve only adds to its bound (tessellate.cpp).
-  reserve_ = options.uniformLevel > 0 ? 0.0 : options.encodingReserve;
-  epsilon_ = (options.relativeTolerance ? options.tolerance * diagonal : options.tolerance) - reserve_;
-  if (!options.camera) return;
+  const Accuracy& accuracy = options.accuracy;
+  reserve_ = accuracy.uniform() ? 0.0 : options.encodingReserve;
+  // A level asks for no ε: the pieces' tolerances are then their approximation bounds alone.
+  const double asked = accuracy.mode == Accuracy::Mode::kRelative ? accuracy.tolerance * diagonal
+                       : accuracy.mode == Accuracy::Mode::kAbsolute ? accuracy.tolerance
+                                                                     : 0.0;
+  epsilon_ = asked - reserve_;
+  if (!accuracy.pixelAccurate()) return;
   const Camera& c = *options.camera;
   eye_ = c.eye;
   forward_ = c.target - c.eye;
@@ -18,7 +23,7 @@ ToleranceModel::ToleranceModel(const TessellationOptions& options, const PatchSe
   const double tanY = std::tan(c.fovYDegrees * M_PI / 360.0);
   const double tanX = tanY * c.width / c.height;
   const double focal = c.height / (2.0 * tanY);
-  pixelScale_ = options.pixelAccuracy / (focal * std::sqrt(1 + tanX * tanX + tanY * tanY));
+  pixelScale_ = accuracy.pixels / (focal * std::sqrt(1 + tanX * tanX + tanY * tanY));
   near_ = 1e-2 * length(c.target - c.eye);
 }
 

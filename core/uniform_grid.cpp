@@ -278,7 +278,7 @@ void placeSamples(const std::vector<GridPiece>& pieces, std::vector<size_t>& off
 }  // namespace
 
 void planUniformGrid(const PatchSet& patches, int p, UniformGrid& grid) {
-  validateUniformLevel(p);
+  validateUniformLevel(p, "level");
   const RegularPatches& regular = patches.regular;
   const RingSet& rings = patches.rings;
   grid.regularPieces = regular.size();

@@ -14,15 +14,10 @@ namespace {
 // `uvs`: the mesh has UVs, whose evaluation and seam copies the output's memory includes.
 TessellationOptions optionsFor(const TessellationJob& job, const CancellationToken& cancel, bool uvs) {
   TessellationOptions options;
-  options.tolerance = job.tolerance > 0 ? job.tolerance : 1.0;
+  options.accuracy = job.accuracy;
+  options.camera = job.camera;
   options.eta = job.eta;
-  options.uniformLevel = job.uniformLevel;
   if (job.maxTriangles > 0) options.maxTriangles = job.maxTriangles;
-  if (job.camera) {
-    const CameraSpec& c = *job.camera;
-    options.camera = Camera{c.eye, c.target, c.up, c.fovYDeg, c.width, c.height};
-    options.pixelAccuracy = job.pixelAccuracy;
-  }
   options.checkpoint = [&cancel] { cancel.throwIfCancelled(); };
   if (job.memory) {
     // The output's memory, reserved once the plan knows its triangles (and set again if

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "core/accuracy.h"
+#include "core/camera.h"
 #include "core/control_mesh.h"
 #include "server/cancellation.h"
 #include "server/memory_reservation.h"
@@ -22,30 +24,22 @@
 
 namespace tessera::server {
 
-enum class FrameAccuracy {
-  kPixel,     // pixelAccuracy pixels on screen, per piece (paper §5.1)
-  kAbsolute,  // tolerance in model units
-  kUniform,   // every patch at uniformLevel
-};
-
-// How every frame of a request is made; checked by render_request.h.
+// How every frame of a request is made; checked by render_request.h. A pixel accuracy is for
+// each frame's own camera.
 struct FrameSettings {
-  FrameAccuracy accuracy = FrameAccuracy::kPixel;
-  double pixelAccuracy = 0.5;
-  double tolerance = 0.0;
-  int uniformLevel = 0;
+  Accuracy accuracy = Accuracy::pixel(0.5);
   double eta = 0.5;
   int64_t maxTriangles = 0;
   bool crackFilling = true;
 };
 
-// One frame to draw. The camera has been checked (render_request.h): finite, eye != target, up
-// not parallel to the view, fov in (0, 180), sides 1..8192.
+// One frame to draw. The camera has been checked (render_request.h: core's validateCamera and
+// sides up to 8192).
 struct FrameJob {
   std::string meshId;
   std::string meshSha256;  // with meshId, the key of cached patch sets
   FrameSettings settings;
-  CameraSpec camera;
+  Camera camera;
   // Where the frame reserves memory beyond its pixels (preprocessing, the triangles it draws);
   // null: nowhere.
   MemoryReservation* memory = nullptr;

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cfloat>
 #include <cmath>
 
 #include "server/status_error.h"
@@ -15,46 +14,14 @@ namespace v1 = tessera::v1;
 
 constexpr double kDefaultPixelAccuracy = 0.5;
 constexpr double kDefaultEta = 0.5;
-// The renderer's own test (gpu/vulkan/camera_math.cpp) on the sine between up and the view
-// direction; checking the same bound here keeps its error from ever being the one users see.
-constexpr double kMinUpSine = 1e-6;
 
-// The renderer works in single precision: a double that is finite but beyond float's range
-// would become infinite there.
-bool fitsFloat(double value) {
-  return std::isfinite(value) && std::fabs(value) <= FLT_MAX;
-}
-
+// Presence is the proto's business; the values are core's (validateCamera).
 Vec3d requireVec3(bool present, const v1::Vec3& v, std::string_view field) {
   if (!present) throwInvalidArgument(fmt::format("{}: is required", field));
-  if (!fitsFloat(v.x()) || !fitsFloat(v.y()) || !fitsFloat(v.z())) {
-    throwInvalidArgument(
-        fmt::format("{}: coordinates must be finite single-precision numbers "
-                    "(got {}, {}, {})",
-                    field, v.x(), v.y(), v.z()));
-  }
   return Vec3d(v.x(), v.y(), v.z());
 }
 
-// As the renderer will see it: rounded to float.
-Vec3d asFloat(const Vec3d& v) {
-  return Vec3d(Vec3(v));
-}
-
-void checkViewGeometry(const CameraSpec& camera, std::string_view field) {
-  Vec3d view = asFloat(camera.target) - asFloat(camera.eye);
-  double viewLength = length(view);
-  if (!(viewLength > 0) || !(length(camera.target - camera.eye) > 0)) {
-    throwInvalidArgument(fmt::format("{}: eye and target must be distinct points", field));
-  }
-  Vec3d up = asFloat(camera.up);
-  double upLength = length(up);
-  if (!(upLength > 0)) throwInvalidArgument(fmt::format("{}.up: must be non-zero", field));
-  if (!(length(cross(view, up)) > kMinUpSine * viewLength * upLength)) {
-    throwInvalidArgument(fmt::format("{}.up: must not be parallel to target - eye", field));
-  }
-}
-
+// The renderer's target size and the server's pixel budget; the camera's own rules are core's.
 void checkViewport(const v1::Camera& c, std::string_view field, const TessellationLimits& limits) {
   for (auto [value, name] : {std::pair{c.width(), "width"}, std::pair{c.height(), "height"}}) {
     if (value < 1 || value > kMaxRenderViewportSide) {
@@ -70,38 +37,38 @@ void checkViewport(const v1::Camera& c, std::string_view field, const Tessellati
   }
 }
 
-void checkAccuracy(const v1::RenderSettings& s, std::string_view field,
-                   const TessellationLimits& limits, FrameSettings& out) {
+Accuracy checkAccuracy(const v1::RenderSettings& s, std::string_view field, const TessellationLimits& limits) {
+  Accuracy accuracy;
+  std::string where;
   switch (s.accuracy_case()) {
     case v1::RenderSettings::ACCURACY_NOT_SET:
-      out.accuracy = FrameAccuracy::kPixel;
-      out.pixelAccuracy = kDefaultPixelAccuracy;
+      accuracy = Accuracy::pixel(kDefaultPixelAccuracy);
       break;
     case v1::RenderSettings::kPixelAccuracy:
-      out.accuracy = FrameAccuracy::kPixel;
-      out.pixelAccuracy = s.pixel_accuracy();
-      requirePositiveFinite(out.pixelAccuracy, fmt::format("{}.pixel_accuracy", field));
+      accuracy = Accuracy::pixel(s.pixel_accuracy());
+      where = fmt::format("{}.pixel_accuracy", field);
       break;
     case v1::RenderSettings::kAbsoluteTolerance:
-      out.accuracy = FrameAccuracy::kAbsolute;
-      out.tolerance = s.absolute_tolerance();
-      requirePositiveFinite(out.tolerance, fmt::format("{}.absolute_tolerance", field));
-      return;
+      accuracy = Accuracy::absolute(s.absolute_tolerance());
+      where = fmt::format("{}.absolute_tolerance", field);
+      break;
     case v1::RenderSettings::kUniformLevel:
-      out.accuracy = FrameAccuracy::kUniform;
-      out.uniformLevel = s.uniform_level();
-      if (out.uniformLevel < 1 || out.uniformLevel > limits.maxUniformLevel) {
-        throwInvalidArgument(fmt::format("{}.uniform_level: must be in [1, {}] (got {})", field,
-                                         limits.maxUniformLevel, out.uniformLevel));
-      }
-      return;
+      accuracy = Accuracy::uniformLevel(s.uniform_level());
+      where = fmt::format("{}.uniform_level", field);
+      break;
   }
-  if (out.pixelAccuracy < limits.minPixelAccuracy) {
+  checkWithCore([&] { validateAccuracy(accuracy, where); });
+  if (accuracy.uniform() && accuracy.level > limits.maxUniformLevel) {
+    throwInvalidArgument(fmt::format("{}: {} is above the server's max_uniform_level of {}", where,
+                                     accuracy.level, limits.maxUniformLevel));
+  }
+  if (accuracy.pixelAccurate() && accuracy.pixels < limits.minPixelAccuracy) {
     throwResourceExhausted(
         fmt::format("{}.pixel_accuracy: {} is finer than the server's "
                     "min_pixel_accuracy of {}",
-                    field, out.pixelAccuracy, limits.minPixelAccuracy));
+                    field, accuracy.pixels, limits.minPixelAccuracy));
   }
+  return accuracy;
 }
 
 EncodingSettings checkEncoding(const v1::RenderSettings& s, std::string_view field) {
@@ -144,7 +111,7 @@ CheckedRenderSettings checkRenderSettings(const v1::RenderSettings& s, std::stri
                                           const TessellationLimits& limits) {
   CheckedRenderSettings out;
   FrameSettings& frame = out.frame;
-  checkAccuracy(s, field, limits, frame);
+  frame.accuracy = checkAccuracy(s, field, limits);
   frame.eta = s.has_eta() ? s.eta() : kDefaultEta;
   if (!std::isfinite(frame.eta) || frame.eta <= 0 || frame.eta >= 1) {
     throwInvalidArgument(fmt::format("{}.eta: must be in (0, 1) (got {})", field, frame.eta));
@@ -171,51 +138,40 @@ CheckedRenderSettings checkRenderSettings(const v1::RenderSettings& s, std::stri
 
 void checkSettingsForMesh(const FrameSettings& settings, std::string_view field,
                           const MeshMetadata& metadata, const TessellationLimits& limits) {
-  if (settings.accuracy != FrameAccuracy::kAbsolute) return;
+  if (settings.accuracy.mode != Accuracy::Mode::kAbsolute) return;
   const double diagonal = metadata.boundsDiagonal();
   if (!(diagonal > 0)) {
     throwStatus(
         grpc::StatusCode::FAILED_PRECONDITION,
         fmt::format("mesh {} has an empty bounding box, so a tolerance has no scale", metadata.id));
   }
-  if (settings.tolerance > diagonal) {
+  if (settings.accuracy.tolerance > diagonal) {
     throwInvalidArgument(
         fmt::format("{}.absolute_tolerance: {} is larger than the mesh's "
                     "bounding-box diagonal ({})",
-                    field, settings.tolerance, diagonal));
+                    field, settings.accuracy.tolerance, diagonal));
   }
-  if (settings.tolerance < limits.minRelativeTolerance * diagonal) {
+  if (settings.accuracy.tolerance < limits.minRelativeTolerance * diagonal) {
     throwResourceExhausted(fmt::format(
         "{}.absolute_tolerance: {} ({} of the bounding-box "
         "diagonal) is finer than the server's "
         "min_relative_tolerance of {}",
-        field, settings.tolerance, settings.tolerance / diagonal, limits.minRelativeTolerance));
+        field, settings.accuracy.tolerance, settings.accuracy.tolerance / diagonal, limits.minRelativeTolerance));
   }
 }
 
-CameraSpec checkRenderCamera(const v1::Camera& c, std::string_view field,
-                             const FrameSettings& settings, const TessellationLimits& limits) {
-  CameraSpec camera;
-  camera.eye = requireVec3(c.has_eye(), c.eye(), fmt::format("{}.eye", field));
-  camera.target = requireVec3(c.has_target(), c.target(), fmt::format("{}.target", field));
-  camera.up = requireVec3(c.has_up(), c.up(), fmt::format("{}.up", field));
-  checkViewGeometry(camera, field);
-  camera.fovYDeg = c.fov_y_deg();
-  float fov = static_cast<float>(camera.fovYDeg);
-  if (!std::isfinite(camera.fovYDeg) || !(fov > 0.0f) || !(fov < 180.0f)) {
-    throwInvalidArgument(
-        fmt::format("{}.fov_y_deg: must be in (0, 180) degrees (got {})", field, camera.fovYDeg));
-  }
+Camera checkRenderCamera(const v1::Camera& c, std::string_view field,
+                         const FrameSettings& settings, const TessellationLimits& limits) {
+  Camera camera{requireVec3(c.has_eye(), c.eye(), fmt::format("{}.eye", field)),
+                requireVec3(c.has_target(), c.target(), fmt::format("{}.target", field)),
+                requireVec3(c.has_up(), c.up(), fmt::format("{}.up", field)), c.fov_y_deg(), c.width(), c.height()};
   checkViewport(c, field, limits);
-  camera.width = c.width();
-  camera.height = c.height();
-  if (settings.accuracy == FrameAccuracy::kPixel &&
-      settings.pixelAccuracy > std::max(camera.width, camera.height)) {
-    throwInvalidArgument(
-        fmt::format("{}: a pixel accuracy of {} pixels is larger than its {}x{} "
-                    "viewport",
-                    field, settings.pixelAccuracy, camera.width, camera.height));
-  }
+  checkWithCore([&] {
+    validateCamera(camera, field);
+    if (settings.accuracy.pixelAccurate()) {
+      validatePixelsForViewport(settings.accuracy.pixels, camera.width, camera.height, field);
+    }
+  });
   return camera;
 }
 

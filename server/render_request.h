@@ -1,5 +1,5 @@
 // Checks the parts of Render and RenderSession requests (render.proto) against the API's rules
-// and the server's budgets, and turns them into FrameSettings and CameraSpecs. Refusals name the
+// and the server's budgets, and turns them into FrameSettings and Cameras. Refusals name the
 // field, with the camera's index or sequence number: INVALID_ARGUMENT for values that make no
 // sense, RESOURCE_EXHAUSTED for sensible values past a budget (as tessellate_request.h does).
 #pragma once
@@ -33,7 +33,7 @@ void checkSettingsForMesh(const FrameSettings& settings, std::string_view field,
 
 // One camera, named `field` in messages ("cameras[3]", "camera (sequence 7)"), checked as the
 // renderer will see it (single precision) and against the pixel accuracy of `settings`.
-CameraSpec checkRenderCamera(const tessera::v1::Camera& camera, std::string_view field,
+Camera checkRenderCamera(const tessera::v1::Camera& camera, std::string_view field,
                              const FrameSettings& settings, const TessellationLimits& limits);
 
 tessera::v1::ImageFormat toProto(FrameFormat format);

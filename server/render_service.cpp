@@ -258,7 +258,7 @@ grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
           fmt::format("cameras: at most {} per request (got {})", kMaxCamerasPerRequest, count));
     }
     // Every camera is checked before the first frame: a bad one costs the client no frames.
-    std::vector<CameraSpec> cameras;
+    std::vector<Camera> cameras;
     for (int i = 0; i < count; ++i) {
       cameras.push_back(checkRenderCamera(request->cameras(i), fmt::format("cameras[{}]", i),
                                           settings.frame, limits_));

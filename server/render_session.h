@@ -23,7 +23,7 @@ namespace tessera::server {
 
 struct PendingCamera {
   uint64_t sequence = 0;
-  CameraSpec camera;
+  Camera camera;
 };
 
 class LatestCameraMailbox {

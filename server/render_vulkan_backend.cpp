@@ -37,23 +37,11 @@ constexpr int64_t kDrawnBytesPerTriangle = 32;
 // The camera in the frame of the mesh's positions (relative to its origin).
 gpu::FrameRequest frameRequestFor(const FrameJob& job, const Vec3d& origin) {
   gpu::FrameRequest request;
-  const CameraSpec& c = job.camera;
-  request.camera = tessera::Camera{c.eye - origin, c.target - origin, c.up, c.fovYDeg, c.width, c.height};
+  request.camera = job.camera;
+  request.camera.eye = job.camera.eye - origin;
+  request.camera.target = job.camera.target - origin;
   const FrameSettings& s = job.settings;
-  switch (s.accuracy) {
-    case FrameAccuracy::kPixel:
-      request.mode = gpu::AccuracyMode::kPixelAccurate;
-      request.pixelAccuracy = s.pixelAccuracy;
-      break;
-    case FrameAccuracy::kAbsolute:
-      request.mode = gpu::AccuracyMode::kAbsoluteTolerance;
-      request.tolerance = s.tolerance;
-      break;
-    case FrameAccuracy::kUniform:
-      request.mode = gpu::AccuracyMode::kUniformLevel;
-      request.uniformLevel = s.uniformLevel;
-      break;
-  }
+  request.accuracy = s.accuracy;
   request.eta = s.eta;
   if (s.maxTriangles > 0) request.maxTriangles = s.maxTriangles;
   request.render.crackFilling = s.crackFilling;

@@ -6,13 +6,6 @@
 
 namespace tessera::server {
 
-void requirePositiveFinite(double value, std::string_view field) {
-  if (!std::isfinite(value)) {
-    throwInvalidArgument(fmt::format("{}: must be a finite number (got {})", field, value));
-  }
-  if (value <= 0) throwInvalidArgument(fmt::format("{}: must be positive (got {})", field, value));
-}
-
 grpc::Status statusFromTesseraError(const TesseraError& error) {
   switch (error.kind()) {
     case ErrorKind::kInvalidInput: return {grpc::StatusCode::INVALID_ARGUMENT, error.what()};

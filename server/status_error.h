@@ -41,13 +41,22 @@ class StatusError : public std::runtime_error {
   throw StatusError(grpc::StatusCode::RESOURCE_EXHAUSTED, message);
 }
 
-// A request field that must be a finite positive number: INVALID_ARGUMENT naming the field and
-// the value otherwise.
-void requirePositiveFinite(double value, std::string_view field);
-
 // core/ reports bad input with TesseraError; its kind decides the status and its message, which
 // already names the problem and where, is passed on unchanged.
 grpc::Status statusFromTesseraError(const TesseraError& error);
+
+// Runs one of core's checks (core/accuracy.h, core/camera.h, told the field's name): its
+// TesseraError becomes the StatusError it maps to, so that every refusal of a request's checks
+// is a StatusError, wherever the check runs.
+template <typename Check>
+void checkWithCore(Check&& check) {
+  try {
+    check();
+  } catch (const TesseraError& error) {
+    const grpc::Status status = statusFromTesseraError(error);
+    throw StatusError(status.error_code(), status.error_message());
+  }
+}
 
 // A user-supplied string made safe to quote in a message: printable ASCII only, cut to a length
 // that keeps one bad field from flooding logs.

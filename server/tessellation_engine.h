@@ -12,48 +12,27 @@
 #include <string_view>
 #include <vector>
 
+#include "core/accuracy.h"
+#include "core/camera.h"
 #include "core/control_mesh.h"
 #include "core/glb_writer.h"
-#include "core/vec3.h"
 #include "server/cancellation.h"
 #include "server/memory_reservation.h"
 
 namespace tessera::server {
-
-// A pinhole camera for pixel-accurate (view-dependent) tolerance. Already validated: finite,
-// eye != target, up not parallel to the view direction, 0 < fovYDeg < 180, width, height >= 1.
-struct CameraSpec {
-  Vec3d eye;
-  Vec3d target;
-  Vec3d up;
-  double fovYDeg = 45.0;
-  int width = 0;
-  int height = 0;
-};
-
-enum class ToleranceMode {
-  kNone,      // no ε: uniformLevel alone decides (benchmark mode)
-  kAbsolute,  // the request gave ε in model units
-  kRelative,  // the request gave ε as a fraction of the bounding-box diagonal (converted below)
-  kPixel,     // the request gave a camera and an accuracy in pixels
-};
 
 struct TessellationJob {
   std::string meshId;
   // SHA-256 of the mesh's canonical content: a cache key for derived data (patch sets) that
   // changes whenever a mesh is deleted and re-uploaded under the same id.
   std::string meshSha256;
-  ToleranceMode toleranceMode = ToleranceMode::kAbsolute;
-  // ε in model units for kAbsolute and kRelative (already multiplied by the diagonal); 0 for
-  // kPixel, where the bound varies over the surface with the distance to the camera, and kNone.
-  double tolerance = 0.0;
-  // kPixel only.
-  std::optional<CameraSpec> camera;
-  double pixelAccuracy = 0.5;
-  // Share of ε spent on ring refinement depth (the rest on the tessellation), in (0, 1).
+  // Checked by tessellate_request.h: ε in model units (a relative tolerance already multiplied
+  // by the mesh's diagonal, which the server's limits are checked against), pixels for `camera`,
+  // or a uniform level.
+  Accuracy accuracy;
+  std::optional<Camera> camera;  // with a pixel accuracy only
+  // Share of ε spent on ring refinement depth (the rest on the tessellation), in [0, 1).
   double eta = 0.5;
-  // > 0: tessellate every patch uniformly at this level instead of the level ε implies.
-  int uniformLevel = 0;
   // The engine refuses (TesseraError kLimitExceeded) to produce more triangles than this.
   int64_t maxTriangles = 0;
   GlbEncoding encoding = GlbEncoding::kFloat;

@@ -40,7 +40,7 @@ class PatternTestEngine final : public TessellationEngine {
     output.glb.resize(kPatternBytes);
     for (size_t i = 0; i < output.glb.size(); ++i) output.glb[i] = patternByte(i);
     output.summary.timings.push_back({"test-pattern", 0.0});
-    output.summary.tolerance = job.tolerance;  // what an engine reports for a tolerance it kept
+    output.summary.tolerance = job.accuracy.tolerance;  // what an engine reports for a tolerance it kept
     return output;
   }
 };

@@ -31,8 +31,7 @@ namespace {
 
 TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& set, double relative) {
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   options.recordParameters = true;
   return tessellate(set, mesh, options);
 }
@@ -140,8 +139,7 @@ TEST(AdaptiveTessellation, NoTriangleFacesAgainstItsVertexNormals) {
     for (double relative : {1e-2, 1e-3, 1e-4}) {
       SCOPED_TRACE(testing::baseName(path) + " at " + std::to_string(relative));
       TessellationOptions options;
-      options.tolerance = relative;
-      options.relativeTolerance = true;
+      options.accuracy = Accuracy::relative(relative);
       const TriangleMesh m = tessellate(set, mesh, options).mesh;
       size_t facingAway = 0;
       for (size_t t = 0; t < m.triangleCount(); ++t) {
@@ -155,7 +153,7 @@ TEST(AdaptiveTessellation, NoTriangleFacesAgainstItsVertexNormals) {
 }
 
 // Pixel accuracy, checked where it matters: on the screen. Every sampled mesh point projects at most
-// `pixelAccuracy` from a limit point: the one at the same parameter or the foot of the mesh point
+// the pixel accuracy from a limit point: the one at the same parameter or the foot of the mesh point
 // on the limit surface (the bounds are geometric: docs/ADAPTIVE.md §3a–§3c).
 TEST(AdaptiveTessellation, PixelAccurateMeshesStayWithinHalfAPixel) {
   const ControlMesh mesh = readObjFile(testing::modelsDir() + "/bigguy.obj");
@@ -164,6 +162,7 @@ TEST(AdaptiveTessellation, PixelAccurateMeshesStayWithinHalfAPixel) {
   const Vec3d center = (Vec3d(set.boundsMin) + Vec3d(set.boundsMax)) * 0.5;
   const double diagonal = length(Vec3d(set.boundsMax) - Vec3d(set.boundsMin));
   TessellationOptions options;
+  options.accuracy = Accuracy::pixel(0.5);
   options.camera = Camera{center + Vec3d(0.2, 0.1, 1.0) * diagonal, center, {0, 1, 0}, 45, 1280, 720};
   options.recordParameters = true;
   const TriangleMesh m = tessellate(set, mesh, options).mesh;
@@ -200,8 +199,8 @@ TEST(AdaptiveTessellation, PixelAccurateMeshesStayWithinHalfAPixel) {
       worst = std::max(worst, std::min(std::hypot(x1 - x0, y1 - y0), std::hypot(x1 - x2, y1 - y2)));
     }
   }
-  EXPECT_LE(worst, options.pixelAccuracy);
-  EXPECT_GT(worst, 0.1 * options.pixelAccuracy) << "the mesh is far finer than half a pixel asks";
+  EXPECT_LE(worst, options.accuracy.pixels);
+  EXPECT_GT(worst, 0.1 * options.accuracy.pixels) << "the mesh is far finer than half a pixel asks";
 }
 
 // A flat surface is exact with two triangles a face, whatever the tolerance, away from the mesh's
@@ -310,8 +309,7 @@ TEST(AdaptiveTessellation, GridTilesAreWithinTheirBoundAtEqualParameters) {
     const testing::LimitSurface surface(mesh);
     const SurfaceTree& tree = set.adaptive->tree;
     TessellationOptions options;
-    options.tolerance = 1e-3;
-    options.relativeTolerance = true;
+    options.accuracy = Accuracy::relative(1e-3);
     const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
     const TriangleMesh out = tessellateAdaptive(set, *set.adaptive, layout, true);
     // Float positions and Bfr's own accuracy.
@@ -365,8 +363,7 @@ TEST(AdaptiveTessellation, TriangularFacesBecomeOneTriangleWithinTheirBound) {
   double closest = 0;
   for (double relative : {1e-2, 3e-3}) {
     TessellationOptions options;
-    options.tolerance = relative;
-    options.relativeTolerance = true;
+    options.accuracy = Accuracy::relative(relative);
     const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
     const TriangleMesh out = tessellateAdaptive(set, *set.adaptive, layout, true);
     std::map<uint32_t, std::vector<size_t>> faceTriangles;  // sub-face 0's tile → its triangles
@@ -445,8 +442,7 @@ TEST(AdaptiveTessellation, CoarseRequestsUseCoarseTiles) {
   const PatchSet set = buildPatchSet(mesh);
   const size_t pieces = set.regular.size();
   TessellationOptions options;
-  options.tolerance = 1e-2;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(1e-2);
   const AdaptiveLayout layout = layoutAdaptive(set, *set.adaptive, options);
   EXPECT_LT(layout.plan.tiles.size() * 20, pieces) << layout.plan.tiles.size() << " tiles for " << pieces << " pieces";
 }
@@ -463,8 +459,7 @@ Planned planAt(const std::string& model, double relative) {
   const PatchSet set = buildPatchSet(mesh);
   Planned planned{tessellateAt(mesh, set, relative), {}};
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   planned.layout = layoutAdaptive(set, *set.adaptive, options);
   EXPECT_EQ(planned.layout.plan.tiles.size(), size_t(planned.result.summary.pieces));
   return planned;

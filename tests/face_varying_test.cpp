@@ -67,8 +67,7 @@ ControlMesh texturedPrism() {
 
 TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& patches, double relative) {
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   options.recordParameters = true;
   return tessellate(patches, mesh, options);
 }

@@ -55,10 +55,9 @@ std::string transformedObj(const std::string& path, double scale, const Vec3d& o
 
 TessellationResult tessellateAt(const ControlMesh& mesh, double relative, std::optional<Camera> camera = {}) {
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   options.recordParameters = true;  // the measure's parametric seeds (tests/support/limit_distance.h)
-  if (camera) options.camera = camera, options.pixelAccuracy = 0.5;
+  if (camera) options.camera = camera, options.accuracy = Accuracy::pixel(0.5);
   return tessellate(buildPatchSet(mesh), mesh, options);
 }
 

@@ -55,8 +55,7 @@ struct Encoded {
 Encoded encode(const ControlMesh& mesh, const PatchSet& patches, double relative,
                GlbEncoding encoding) {
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   const auto positions = reserveForEncoding(encoding, patches, options);
   const TessellationResult result = tessellate(patches, mesh, options);
   const GlbRequest request{encoding, "torus", sha256Hex(encodeCanonicalMesh(mesh))};
@@ -120,8 +119,7 @@ TEST(GlbEncoding, AGridTooCoarseForTheToleranceIsRefusedOrLeftOut) {
       readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_torus_creases0.obj");
   const PatchSet patches = buildPatchSet(mesh);
   TessellationOptions options;
-  options.tolerance = 1e-5;  // about the 16-bit grid's own error over the box
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(1e-5);  // about the 16-bit grid's own error over the box
   try {
     reserveForEncoding(GlbEncoding::kQuantized, patches, options);
     FAIL() << "quantized positions accepted at 1e-5 of the diagonal";
@@ -134,7 +132,7 @@ TEST(GlbEncoding, AGridTooCoarseForTheToleranceIsRefusedOrLeftOut) {
   EXPECT_FALSE(reserveForEncoding(GlbEncoding::kMeshopt, patches, options).has_value());
   EXPECT_EQ(options.encodingReserve, 0.0);
   // A uniform level meets no ε: the grid is always used and its error added to the bound.
-  options.uniformLevel = 2;
+  options.accuracy = Accuracy::uniformLevel(2);
   EXPECT_TRUE(reserveForEncoding(GlbEncoding::kQuantized, patches, options).has_value());
   EXPECT_GT(options.encodingReserve, 0.0);
 }

@@ -56,14 +56,13 @@ PatchSet loadPatches(const std::string& name) {
 
 TessellationOptions uniform(int p) {
   TessellationOptions options;
-  options.uniformLevel = p;
+  options.accuracy = Accuracy::uniformLevel(p);
   return options;
 }
 
 TessellationOptions relative(double tolerance) {
   TessellationOptions options;
-  options.relativeTolerance = true;
-  options.tolerance = tolerance;
+  options.accuracy = Accuracy::relative(tolerance);
   return options;
 }
 
@@ -73,6 +72,7 @@ TessellationOptions camera(const PatchSet& set) {
   const Vec3d lo(set.boundsMin), hi(set.boundsMax);
   c.target = (lo + hi) * 0.5;
   c.eye = c.target + Vec3d(0.3, 0.4, 2.0) * length(hi - lo);
+  options.accuracy = Accuracy::pixel(0.5);
   options.camera = c;
   return options;
 }

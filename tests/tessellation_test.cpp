@@ -87,9 +87,8 @@ Measured measure(const TessellationResult& result, Reference& reference) {
 TessellationResult tessellateAt(const ControlMesh& mesh, const PatchSet& set, double relative,
                                 double eta = 0.5) {
   TessellationOptions options;
-  options.tolerance = relative;
+  options.accuracy = Accuracy::relative(relative);
   options.eta = eta;
-  options.relativeTolerance = true;
   options.recordParameters = true;
   return tessellate(set, mesh, options);
 }
@@ -345,25 +344,41 @@ TEST(Tessellation, RefusesBadOptionsWithClearErrors) {
     }
   };
   TessellationOptions o;
-  o.tolerance = 0;
+  o.accuracy = Accuracy::absolute(0);
   expectError(o, ErrorKind::kInvalidInput, "tolerance");
-  o.tolerance = -1;
+  o.accuracy = Accuracy::absolute(-1);
   expectError(o, ErrorKind::kInvalidInput, "tolerance");
-  o.tolerance = NAN;
+  o.accuracy = Accuracy::absolute(NAN);
   expectError(o, ErrorKind::kInvalidInput, "tolerance");
+  o.accuracy = Accuracy::relative(1);
+  expectError(o, ErrorKind::kInvalidInput, "below 1");
+  o.accuracy = Accuracy::uniformLevel(0);
+  expectError(o, ErrorKind::kInvalidInput, "uniform level");
   o = {};
   o.eta = 1.5;
   expectError(o, ErrorKind::kInvalidInput, "eta");
   o.eta = -0.1;
   expectError(o, ErrorKind::kInvalidInput, "eta");
   o = {};
-  o.tolerance = 1e-6;
-  o.relativeTolerance = true;
+  o.accuracy = Accuracy::relative(1e-6);
   o.maxTriangles = 100000;
   expectError(o, ErrorKind::kLimitExceeded, "budget");
   o = {};
+  o.accuracy = Accuracy::pixel(0.5);
   o.camera = Camera{{0, 0, 10}, {0, 0, 10}};
-  expectError(o, ErrorKind::kInvalidInput, "coincide");
+  expectError(o, ErrorKind::kInvalidInput, "eye and target must be distinct");
+  o.camera = Camera{{0, 0, 10}, {0, 0, 0}, {0, 0, 1}};
+  expectError(o, ErrorKind::kInvalidInput, "camera.up: must not be parallel");
+  o.camera = Camera{{0, 0, 10}, {0, 0, 0}, {0, 1e-7, 1}};  // a sine of 1e-7: no roll in float
+  expectError(o, ErrorKind::kInvalidInput, "camera.up: must not be parallel");
+  o.camera = Camera{{0, 0, 10}, {0, 0, 0}, {0, 1e-5, 1}};
+  o.accuracy = Accuracy::pixel(4000);
+  expectError(o, ErrorKind::kInvalidInput, "larger than the 1920x1080 viewport");
+  o.accuracy = Accuracy::absolute(1e-3);
+  expectError(o, ErrorKind::kInvalidInput, "a camera was given without a pixel accuracy");
+  o.camera.reset();
+  o.accuracy = Accuracy::pixel(0.5);
+  expectError(o, ErrorKind::kInvalidInput, "needs the camera");
 }
 
 TEST(Tessellation, PixelAccurateToleranceShrinksWithDistance) {
@@ -372,6 +387,7 @@ TEST(Tessellation, PixelAccurateToleranceShrinksWithDistance) {
   auto trianglesFrom = [&](double distance) {
     TessellationOptions o;
     Vec3d center = (Vec3d(set.boundsMin) + Vec3d(set.boundsMax)) * 0.5;
+    o.accuracy = Accuracy::pixel(0.5);
     o.camera = Camera{center + Vec3d(0, 0, distance), center, {0, 1, 0}, 45, 512, 512};
     return tessellate(set, mesh, o).summary.triangles;
   };

@@ -101,7 +101,7 @@ TEST(UniformGrid, SamplesThePlansUniformPieces) {
     for (int p : {1, 5, 16}) {
       SCOPED_TRACE(std::string(name) + ", p = " + std::to_string(p));
       TessellationOptions options;
-      options.uniformLevel = p;
+      options.accuracy = Accuracy::uniformLevel(p);
       const TessellationPlan plan = planTessellation(set, options);
       UniformGrid grid;
       planUniformGrid(set, p, grid);
@@ -147,7 +147,7 @@ TEST(UniformGrid, LevelsOutsideTheRangeAreRefused) {
       planUniformGrid(car, p, grid);
       ADD_FAILURE() << "level " << p << " was accepted";
     } catch (const TesseraError& error) {
-      EXPECT_NE(std::string(error.what()).find("level must be between 1 and 4096"),
+      EXPECT_NE(std::string(error.what()).find("level: must be in [1, 4096]"),
                 std::string::npos)
           << error.what();
     }

@@ -1,21 +1,15 @@
-// One pinhole camera, two types: core's planning camera (double precision, int viewport; it
-// sets the per-piece tolerance in pixel-accurate mode, MATH.md §4) and the renderer's (float,
-// unsigned viewport, optional near/far planes; gpu/vulkan/camera_math.h). Both look from `eye`
-// towards `target` with `up` roughly up and a full vertical field of view `fovYDegrees`; the
-// horizontal one follows from width/height. Converting loses only precision and near/far.
+// The request's camera (core/camera.h: double precision, int viewport) as the renderer draws
+// through it (gpu/vulkan/render_types.h: float, unsigned viewport, optional near/far planes).
+// Converting loses only precision; near and far are left at 0, which the renderer fits to the
+// patches.
 #pragma once
 
-#include "core/tessellation_options.h"
+#include "core/camera.h"
 #include "gpu/vulkan/render_types.h"
 
 namespace tessera::gpu {
 
-// Near/far are left at 0 (the renderer fits them to the patches). Throws TesseraError
-// (kInvalidInput) for a negative viewport side, which has no unsigned counterpart; every other
-// check is the renderer's (validateCamera) or core's (validateTessellationOptions).
+// Expects a camera that passed validateCamera (finite in float, sides >= 1).
 Camera toGpuCamera(const tessera::Camera& camera);
-
-// Drops near/far. Throws TesseraError (kInvalidInput) for a side above INT_MAX.
-tessera::Camera toCoreCamera(const Camera& camera);
 
 }  // namespace tessera::gpu

@@ -19,23 +19,23 @@ double millisecondsSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// The checks that do not need the plan, in the order a user would fix them. The renderer's
-// camera check runs on the converted camera so that its limits (8192 pixels per side, finite
-// floats) hold before any planning work is spent.
+// The checks that do not need the plan, in the order a user would fix them, before any
+// planning work is spent: the camera (core's rules) within the renderer's target size.
 Camera validatedCamera(const FrameRequest& request) {
   if (request.render.uniformLevel != 0) {
     throwInvalid(
         "render.uniformLevel must be 0: the frame engine sets every patch's levels "
-        "(ask for AccuracyMode::kUniformLevel instead)");
+        "(ask for Accuracy::uniformLevel instead)");
   }
   if (request.maxTriangles <= 0) throwInvalid("the triangle budget must be positive");
-  Camera camera = toGpuCamera(request.camera);
-  try {
-    validateCamera(camera);
-  } catch (const RenderInputError& e) {
-    throwInvalid(e.what());
+  validateCamera(request.camera, "camera");
+  for (auto [side, part] : {std::pair{request.camera.width, "width"}, std::pair{request.camera.height, "height"}}) {
+    if (side > int(kMaxTargetSize)) {
+      throwInvalid("camera." + std::string(part) + ": must be in [1, " + std::to_string(kMaxTargetSize) +
+                   "] pixels, the renderer's largest target (got " + std::to_string(side) + ")");
+    }
   }
-  return camera;
+  return toGpuCamera(request.camera);
 }
 
 // Per ring, the level of its innermost pieces below the base face (Far isolation + FAS).
@@ -61,23 +61,8 @@ TessellationOptions tessellationOptionsFor(const FrameRequest& request) {
   TessellationOptions options;
   options.eta = request.eta;
   options.maxTriangles = request.maxTriangles;
-  switch (request.mode) {
-    case AccuracyMode::kPixelAccurate:
-      options.camera = request.camera;
-      options.pixelAccuracy = request.pixelAccuracy;
-      break;
-    case AccuracyMode::kAbsoluteTolerance:
-      options.tolerance = request.tolerance;
-      break;
-    case AccuracyMode::kUniformLevel:
-      // To core, 0 means "no uniform level, use the tolerance": refuse it here instead.
-      options.uniformLevel = request.uniformLevel;
-      if (request.uniformLevel == 0)
-        throwInvalid("uniform level must be between 1 and 4096, got 0");
-      break;
-    default:
-      throwInvalid("unknown accuracy mode " + std::to_string(int(request.mode)));
-  }
+  options.accuracy = request.accuracy;
+  if (request.accuracy.pixelAccurate()) options.camera = request.camera;
   return options;
 }
 

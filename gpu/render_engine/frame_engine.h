@@ -8,9 +8,9 @@
 //   request.camera = {.eye = {0, 0, 5}, .target = {0, 0, 0}, .width = 1920, .height = 1080};
 //   EngineFrame frame = engine.render(buildPatchSet(mesh), request);
 //
-// Modes: pixel-accurate (ε is `pixelAccuracy` pixels projected back to object space per piece
-// and per ring for the request's camera, MATH.md §4), an absolute object-space tolerance, or
-// the paper's uniform level p (Table 2). Nothing is cached between frames; the engine owns one
+// Accuracy (core/accuracy.h): pixel-accurate (ε is `pixels` projected back to object space per
+// piece and per ring for the request's camera, MATH.md §4), a tolerance in object space or as a
+// fraction of the diagonal, or the paper's uniform level p (Table 2). Nothing is cached between frames; the engine owns one
 // Renderer and, like it, is not thread-safe.
 //
 // Errors: a bad request (camera with NaN, a side of 0 or above 8192 pixels, a bad tolerance,
@@ -33,22 +33,15 @@
 
 namespace tessera::gpu {
 
-enum class AccuracyMode : uint8_t {
-  kPixelAccurate,      // ε = pixelAccuracy pixels on screen, per piece (paper §5.1)
-  kAbsoluteTolerance,  // ε = tolerance in object space
-  kUniformLevel,       // level p per base face (halved per subdivision level), no ε
-};
-
 struct FrameRequest {
   tessera::Camera camera;  // eye, target, up, vertical fov, viewport (1..8192 per side)
-  AccuracyMode mode = AccuracyMode::kPixelAccurate;
-  double pixelAccuracy = 0.5;         // kPixelAccurate: pixels
-  double tolerance = 1e-3;            // kAbsoluteTolerance: object-space distance
-  int uniformLevel = 16;              // kUniformLevel: p (1..4096; levels above 64 are split)
+  // A uniform level p draws every piece at p halved per subdivision level (levels above 64 are
+  // split); a pixel accuracy is for `camera`.
+  Accuracy accuracy = Accuracy::pixel(0.5);
   double eta = 0.5;                   // share of ε for the innermost Bézier approximation (§5.1)
   int64_t maxTriangles = 20'000'000;  // budget for the triangles the frame would draw
   // Path, crack filling, background, light and material. Its uniformLevel must stay 0: the
-  // engine sets every patch's levels (use kUniformLevel instead).
+  // engine sets every patch's levels (ask for Accuracy::uniformLevel instead).
   RenderOptions render;
   // Called with the triangles the frame will draw once they are counted (within maxTriangles),
   // before the render patches are made; may throw. A server reserves their memory here.

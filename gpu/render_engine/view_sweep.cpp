@@ -74,7 +74,7 @@ SweepStatistics sweepStatistics(const PatchSet& patches, int baseFaces, const Vi
   for (const tessera::Camera& camera : sweepCameras(patches, sweep)) {
     FrameRequest request;
     request.camera = camera;
-    request.pixelAccuracy = sweep.pixelAccuracy;
+    request.accuracy = Accuracy::pixel(sweep.pixelAccuracy);
     request.eta = sweep.eta;
     request.maxTriangles = INT64_MAX;  // statistics only: nothing is allocated per triangle
     PreparedFrame frame = prepareFrame(patches, request);

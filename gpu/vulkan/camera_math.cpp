@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/camera.h"
 #include "gpu/vulkan/vulkan_error.h"
 
 namespace tessera::gpu {
@@ -61,7 +62,7 @@ void validateCamera(const Camera& camera) {
   double upLength = length(toDouble(camera.up));
   if (!(upLength > 0.0)) throw RenderInputError("camera up vector is zero");
   double sine = length(cross(view, toDouble(camera.up))) / (viewLength * upLength);
-  if (!(sine > 1e-6)) throw RenderInputError("camera up vector is parallel to the view direction");
+  if (!(sine > kMinUpSine)) throw RenderInputError("camera up vector is parallel to the view direction");
   if (!std::isfinite(camera.fovYDegrees) || camera.fovYDegrees <= 0.0f ||
       camera.fovYDegrees >= 180.0f) {
     throw RenderInputError("camera fovYDegrees must lie strictly between 0 and 180, got " +

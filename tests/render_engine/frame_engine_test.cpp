@@ -16,7 +16,6 @@
 namespace tessera::testing {
 namespace {
 
-using gpu::AccuracyMode;
 using gpu::FrameRequest;
 using gpu::kBackgroundPatchId;
 
@@ -76,28 +75,25 @@ TEST(FrameEngine, BadCamerasGiveClearErrors) {
 TEST(FrameEngine, BadAccuracyAndBudgetsGiveClearErrors) {
   const FrameRequest good = smallRequest(loadModel("catmark_edgecorner"));
   FrameRequest r = good;
-  r.pixelAccuracy = 0;
+  r.accuracy = Accuracy::pixel(0);
   expectRefused(r, ErrorKind::kInvalidInput, {"pixel accuracy"});
   r = good;
   r.eta = 1.5;
   expectRefused(r, ErrorKind::kInvalidInput, {"eta"});
   r = good;
-  r.mode = AccuracyMode::kAbsoluteTolerance;
-  r.tolerance = -1;
+  r.accuracy = Accuracy::absolute(-1);
   expectRefused(r, ErrorKind::kInvalidInput, {"tolerance"});
   r = good;
-  r.mode = AccuracyMode::kUniformLevel;
-  r.uniformLevel = 0;
+  r.accuracy = Accuracy::uniformLevel(0);
   expectRefused(r, ErrorKind::kInvalidInput, {"level", "0"});
-  r.uniformLevel = 5000;
+  r.accuracy = Accuracy::uniformLevel(5000);
   expectRefused(r, ErrorKind::kInvalidInput, {"level", "5000"});
   r = good;
   r.render.uniformLevel = 4;
-  expectRefused(r, ErrorKind::kInvalidInput, {"uniformLevel", "kUniformLevel"});
+  expectRefused(r, ErrorKind::kInvalidInput, {"uniformLevel", "Accuracy::uniformLevel"});
   // A tolerance far below what the budget allows: refused before anything is split.
   r = good;
-  r.mode = AccuracyMode::kAbsoluteTolerance;
-  r.tolerance = 1e-9;
+  r.accuracy = Accuracy::absolute(1e-9);
   expectRefused(r, ErrorKind::kLimitExceeded, {"triangles", "budget"});
   r = good;
   r.maxTriangles = 0;
@@ -148,8 +144,7 @@ TEST(FrameEngine, UniformLevelsDrawTheCountedTriangles) {
   const LoadedModel& model = loadModel("catmark_edgecorner");
   for (int p : {16, 64, 128}) {
     FrameRequest request = smallRequest(model);
-    request.mode = AccuracyMode::kUniformLevel;
-    request.uniformLevel = p;
+    request.accuracy = Accuracy::uniformLevel(p);
     gpu::EngineFrame f = testEngine().render(model.patches, request);
     int64_t expected = 0, patches = 0, split = 0;
     for (const BezierPiece& piece : f.plan.pieces) {
@@ -175,14 +170,13 @@ TEST(FrameEngine, UniformLevelsDrawTheCountedTriangles) {
 TEST(FrameEngine, AbsoluteToleranceBoundsEveryPiece) {
   const LoadedModel& model = loadModel("catmark_edgecorner");
   FrameRequest request = smallRequest(model);
-  request.mode = AccuracyMode::kAbsoluteTolerance;
-  request.tolerance = 1e-3 * 2 * model.radius;
+  request.accuracy = Accuracy::absolute(1e-3 * 2 * model.radius);
   gpu::EngineFrame f = testEngine().render(model.patches, request);
-  EXPECT_LE(f.statistics.guaranteedBound, request.tolerance);
+  EXPECT_LE(f.statistics.guaranteedBound, request.accuracy.tolerance);
   EXPECT_GT(f.statistics.triangles, 0u);
   // A ten times tighter tolerance needs about √10 times the level, ten times the triangles.
   FrameRequest tighter = request;
-  tighter.tolerance /= 10;
+  tighter.accuracy.tolerance /= 10;
   gpu::EngineFrame g = testEngine().render(model.patches, tighter);
   EXPECT_GT(g.statistics.plannedTriangles, 5 * f.statistics.plannedTriangles);
   expectNoValidationMessages();

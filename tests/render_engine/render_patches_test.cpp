@@ -142,37 +142,24 @@ TEST(ViewFrustum, KeepsWhatTouchesTheViewAndDropsWhatIsBehindOrBeside) {
   EXPECT_TRUE(frustum.mayShow(apart, 2));
 }
 
-TEST(CameraConversion, RoundTripsAndRefusesSizesWithoutACounterpart) {
+TEST(CameraConversion, KeepsEveryFieldInSinglePrecision) {
   tessera::Camera core;
   core.eye = {1, 2, 3};
-  core.target = {-1, 0.5, 0.25};
+  core.target = {-1, 0.5, 0.1};
   core.up = {0, 0, 1};
   core.fovYDegrees = 33;
   core.width = 640;
   core.height = 480;
   Camera gpu = toGpuCamera(core);
   EXPECT_EQ(gpu.eye.x, 1.0f);
-  EXPECT_EQ(gpu.target.z, 0.25f);
+  EXPECT_EQ(gpu.eye.y, 2.0f);
+  EXPECT_EQ(gpu.target.z, 0.1f);  // the float nearest 0.1
   EXPECT_EQ(gpu.up.z, 1.0f);
   EXPECT_EQ(gpu.fovYDegrees, 33.0f);
   EXPECT_EQ(gpu.width, 640u);
   EXPECT_EQ(gpu.height, 480u);
   EXPECT_EQ(gpu.nearPlane, 0.0f);
-  tessera::Camera back = toCoreCamera(gpu);
-  EXPECT_EQ(back.eye.y, 2.0);
-  EXPECT_EQ(back.width, 640);
-  EXPECT_EQ(back.height, 480);
-
-  core.width = -5;
-  try {
-    toGpuCamera(core);
-    ADD_FAILURE() << "a negative width must be refused";
-  } catch (const TesseraError& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::kInvalidInput);
-    EXPECT_NE(std::string(e.what()).find("width is -5"), std::string::npos) << e.what();
-  }
-  gpu.width = 3'000'000'000u;
-  EXPECT_THROW(toCoreCamera(gpu), TesseraError);
+  EXPECT_EQ(gpu.farPlane, 0.0f);
 }
 
 }  // namespace

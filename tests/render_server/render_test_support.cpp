@@ -35,8 +35,7 @@ gpu::FrameEngine& referenceEngine() {
 gpu::EngineFrame referenceFrame(const tessera::Camera& camera) {
   gpu::FrameRequest request;
   request.camera = camera;
-  request.mode = gpu::AccuracyMode::kPixelAccurate;
-  request.pixelAccuracy = 0.5;
+  request.accuracy = Accuracy::pixel(0.5);
   request.render.crackFilling = true;
   return referenceEngine().render(bigguy().patches, request);
 }

@@ -150,8 +150,7 @@ int run(const char* path, double relative) {
   const ControlMesh mesh = readObjFile(path);
   const PatchSet patches = buildPatchSet(mesh);
   TessellationOptions options;
-  options.tolerance = relative;
-  options.relativeTolerance = true;
+  options.accuracy = Accuracy::relative(relative);
   const AdaptiveLayout layout = layoutAdaptive(patches, *patches.adaptive, options);
   const TriangleMesh output = tessellateAdaptive(patches, *patches.adaptive, layout, true);
   const SurfaceTree& tree = patches.adaptive->tree;

@@ -68,8 +68,7 @@ int main(int argc, char** argv) {
     tessera::ControlMesh mesh = tessera::readObjFile(arguments.model);
     tessera::PatchSet patches = tessera::buildPatchSet(mesh);
     tessera::TessellationOptions options;
-    options.tolerance = arguments.relative;
-    options.relativeTolerance = true;
+    options.accuracy = tessera::Accuracy::relative(arguments.relative);
     std::vector<double> milliseconds;
     int64_t triangles = 0;
     size_t glbBytes = 0;

@@ -69,10 +69,9 @@ int main(int argc, char** argv) {
                 (long long)refined, (long long)estimated, mib(peak), mib(preprocessing), double(preprocessing) / peak);
     std::vector<TessellationOptions> requests;
     for (double tolerance : tolerances) {
-      requests.emplace_back().tolerance = tolerance;
-      requests.back().relativeTolerance = true;
+      requests.emplace_back().accuracy = Accuracy::relative(tolerance);
     }
-    for (int level : levels) requests.emplace_back().uniformLevel = level;
+    for (int level : levels) requests.emplace_back().accuracy = Accuracy::uniformLevel(level);
     for (TessellationOptions tessellation : requests) {
       tessellation.maxTriangles = int64_t(1) << 40;
       rest = restartPeak();
@@ -84,8 +83,8 @@ int main(int argc, char** argv) {
       }
       peak = statusBytes("VmHWM:") - rest;
       const int64_t estimate = tessellationBytes(triangles);
-      const std::string at = tessellation.uniformLevel > 0 ? "uniform level " + std::to_string(tessellation.uniformLevel)
-                                                           : std::to_string(tessellation.tolerance);
+      const std::string at = tessellation.accuracy.uniform() ? "uniform level " + std::to_string(tessellation.accuracy.level)
+                                                           : std::to_string(tessellation.accuracy.tolerance);
       std::printf("| %s | tessellation + GLB at %s | %lld triangles | %.0f | %.0f | %.2f |\n", name.c_str(), at.c_str(),
                   (long long)triangles, mib(peak), mib(estimate), double(estimate) / double(peak));
     }
