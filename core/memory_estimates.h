@@ -1,5 +1,5 @@
 // What core's work takes in memory, estimated before it is done, so that a server can budget a
-// job before running it (server/admission_control.h). Each figure is a fit to the peak resident
+// job before running it (server/calls/admission_control.h). Each figure is a fit to the peak resident
 // memory measured on ../shared/models (bench/MEMORY-RESULTS.md) with room above every model
 // measured; none is a proven bound.
 #pragma once

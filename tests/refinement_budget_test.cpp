@@ -15,7 +15,7 @@
 namespace tessera {
 namespace {
 
-constexpr int64_t kServerDefault = 4'000'000;  // server/mesh_upload.h
+constexpr int64_t kServerDefault = 4'000'000;  // server/meshes/mesh_upload.h
 
 ControlMesh model(const std::string& name) { return readObjFile(testing::modelsDir() + "/" + name + ".obj"); }
 

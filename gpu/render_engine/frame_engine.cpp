@@ -20,7 +20,7 @@ double millisecondsSince(Clock::time_point start) {
 }
 
 // The checks that do not need the plan, in the order a user would fix them, before any
-// planning work is spent: the camera (core's rules) within the renderer's target size.
+// planning work is spent: the renderer's target size, then the camera (core's rules).
 Camera validatedCamera(const FrameRequest& request) {
   if (request.render.uniformLevel != 0) {
     throwInvalid(
@@ -28,13 +28,13 @@ Camera validatedCamera(const FrameRequest& request) {
         "(ask for Accuracy::uniformLevel instead)");
   }
   if (request.maxTriangles <= 0) throwInvalid("the triangle budget must be positive");
-  validateCamera(request.camera, "camera");
   for (auto [side, part] : {std::pair{request.camera.width, "width"}, std::pair{request.camera.height, "height"}}) {
-    if (side > int(kMaxTargetSize)) {
+    if (side < 1 || side > int(kMaxTargetSize)) {
       throwInvalid("camera." + std::string(part) + ": must be in [1, " + std::to_string(kMaxTargetSize) +
                    "] pixels, the renderer's largest target (got " + std::to_string(side) + ")");
     }
   }
+  validateCamera(request.camera, "camera");
   return toGpuCamera(request.camera);
 }
 

@@ -50,10 +50,10 @@ TEST(FrameEngine, BadCamerasGiveClearErrors) {
   expectRefused(r, ErrorKind::kInvalidInput, {"camera", "finite"});
   r = good;
   r.camera.width = 0;
-  expectRefused(r, ErrorKind::kInvalidInput, {"width", "0 pixels"});
+  expectRefused(r, ErrorKind::kInvalidInput, {"width", "got 0"});
   r = good;
   r.camera.height = 0;
-  expectRefused(r, ErrorKind::kInvalidInput, {"height", "0 pixels"});
+  expectRefused(r, ErrorKind::kInvalidInput, {"height", "got 0"});
   r = good;
   r.camera.width = 8193;
   expectRefused(r, ErrorKind::kInvalidInput, {"width", "8193", "8192"});
@@ -62,7 +62,7 @@ TEST(FrameEngine, BadCamerasGiveClearErrors) {
   expectRefused(r, ErrorKind::kInvalidInput, {"width", "-4"});
   r = good;
   r.camera.fovYDegrees = NAN;
-  expectRefused(r, ErrorKind::kInvalidInput, {"fovYDegrees"});
+  expectRefused(r, ErrorKind::kInvalidInput, {"fov_y_deg"});
   r = good;
   r.camera.target = r.camera.eye;
   expectRefused(r, ErrorKind::kInvalidInput, {"eye", "target"});

@@ -9,8 +9,8 @@
 #include <future>
 #include <thread>
 
-#include "server/admission_control.h"
-#include "server/status_error.h"
+#include "server/calls/admission_control.h"
+#include "server/calls/status_error.h"
 
 namespace tessera::server {
 namespace {

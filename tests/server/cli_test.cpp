@@ -138,7 +138,7 @@ TEST_F(CliTest, TessellateWritesTheStreamedFileAfterCheckingIt) {
   SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(run);
   EXPECT_EQ(run.code, kExitOk) << run.output;
   std::string written = readFile(out);
-  ASSERT_EQ(written.size(), 200'003u);  // the pattern engine's output (server/test_engines.h)
+  ASSERT_EQ(written.size(), 200'003u);  // the pattern engine's output (server/tessellation/test_engines.h)
   EXPECT_EQ(static_cast<uint8_t>(written[1000]), static_cast<uint8_t>((1000 * 131 + (1000 >> 8)) & 0xff));
 }
 

@@ -1,4 +1,4 @@
-// gRPC reflection v1 (server/reflection_v1.h) on the real server, against the server's API as the
+// gRPC reflection v1 (server/app/reflection_v1.h) on the real server, against the server's API as the
 // generated code defines it: the services it offers, files with their dependencies, errors for
 // what does not exist, and nothing at all once a bearer token is set.
 #include <google/protobuf/descriptor.pb.h>

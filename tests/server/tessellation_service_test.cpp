@@ -14,7 +14,7 @@
 namespace tessera::test {
 namespace {
 
-// Must match server/test_engines.h: the pattern engine's output.
+// Must match server/tessellation/test_engines.h: the pattern engine's output.
 constexpr size_t kPatternBytes = 200'003;
 uint8_t patternByte(size_t i) { return static_cast<uint8_t>((i * 131 + (i >> 8)) & 0xff); }
 

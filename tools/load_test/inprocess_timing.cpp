@@ -1,6 +1,6 @@
 // The in-process baseline for tools/load-test.sh's gRPC overhead measurement: the work a
 // tessera-server does for a Tessellate call once the mesh's patch set is cached (core's
-// tessellate() and writeGlb(), server/cpu_engine.cpp), timed alone in this process.
+// tessellate() and writeGlb(), server/tessellation/cpu_engine.cpp), timed alone in this process.
 //
 //   tessera-inprocess-timing MODEL.obj --relative E --runs N [--warmup W] [--name NAME]
 //

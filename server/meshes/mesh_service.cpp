@@ -1,0 +1,125 @@
+#include "server/meshes/mesh_service.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "server/calls/call_guard.h"
+#include "server/calls/memory_release.h"
+#include "server/meshes/mesh_names.h"
+#include "server/meshes/mesh_proto.h"
+#include "server/calls/status_error.h"
+
+namespace tessera::server {
+namespace {
+
+namespace v1 = tessera::v1;
+
+constexpr int kDefaultPageSize = 50;
+constexpr int kMaxPageSize = 1000;
+// Well under gRPC's 4 MiB message limit, and big enough that per-message overhead is small.
+constexpr size_t kDownloadChunkBytes = 64 * 1024;
+
+}  // namespace
+
+void MeshServiceImpl::receive(Watched<grpc::ServerReader<v1::UploadMeshRequest>>& reader,
+                              UploadAssembler& upload) {
+  v1::UploadMeshRequest message;
+  while (reader.Read(&message)) {
+    const int64_t before = upload.receivedBytes();
+    const bool isHeader = !upload.hasHeader();
+    upload.accept(message);
+    metrics_.uploadBytes.add({}, static_cast<double>(upload.receivedBytes() - before));
+    // Refuse a taken id before the client sends megabytes; create() checks again atomically.
+    if (isHeader && repository_.exists(upload.meshId())) {
+      throwStatus(grpc::StatusCode::ALREADY_EXISTS,
+                  fmt::format("mesh {} already exists", meshName(upload.meshId())));
+    }
+  }
+}
+
+grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
+                                         grpc::ServerReader<v1::UploadMeshRequest>* reader,
+                                         v1::Mesh* response) {
+  const ReleaseMemoryOnExit release;  // the upload's buffers and parse, after the call
+  return guardCall(*context, auth_, [&] {
+    CancellationToken cancel = cancellationFor(*context);
+    UploadAssembler upload(limits_);
+    {
+      StreamWatch::Call call = streams_.open(*context, "UploadMesh");
+      Watched watched(*reader, call);
+      receive(watched, upload);
+    }
+    // Read() also returns false when the client cancels or the deadline passes: that is not the
+    // end of a complete upload.
+    cancel.throwIfCancelled();
+    // Parsing and validating is the CPU-heavy part; receiving is not, so it waits outside.
+    AdmissionControl::Slot slot = admission_.acquire(cancel);
+    AssembledUpload assembled = upload.finish();
+    admission_.requireFits(assembled.preprocessingBytes, assembled.where + "preprocessing the mesh");
+    cancel.throwIfCancelled();
+    MeshMetadata stored = repository_.create(std::move(assembled.mesh), std::move(assembled.metadata));
+    toProto(stored, response);
+    metrics_.notes.note(context, "mesh", stored.id);
+    metrics_.notes.note(context, "bytes", int64_t(upload.receivedBytes()));
+  });
+}
+
+grpc::Status MeshServiceImpl::GetMesh(grpc::ServerContext* context, const v1::GetMeshRequest* request,
+                                      v1::Mesh* response) {
+  return guardCall(*context, auth_, [&] {
+    std::string id = meshIdFromName(request->name(), "name");
+    toProto(repository_.metadata(id), response);
+  });
+}
+
+grpc::Status MeshServiceImpl::ListMeshes(grpc::ServerContext* context,
+                                         const v1::ListMeshesRequest* request,
+                                         v1::ListMeshesResponse* response) {
+  return guardCall(*context, auth_, [&] {
+    if (request->page_size() < 0) {
+      throwInvalidArgument(fmt::format("page_size: must not be negative (got {})", request->page_size()));
+    }
+    int pageSize = request->page_size() == 0 ? kDefaultPageSize
+                                             : std::min(request->page_size(), kMaxPageSize);
+    std::string after = request->page_token().empty() ? "" : decodePageToken(request->page_token());
+    // One extra row tells whether another page follows without a second query.
+    std::vector<MeshMetadata> page = repository_.list(after, pageSize + 1);
+    bool more = static_cast<int>(page.size()) > pageSize;
+    if (more) page.resize(pageSize);
+    for (const MeshMetadata& m : page) toProto(m, response->add_meshes());
+    if (more) response->set_next_page_token(encodePageToken(page.back().id));
+  });
+}
+
+grpc::Status MeshServiceImpl::DeleteMesh(grpc::ServerContext* context,
+                                         const v1::DeleteMeshRequest* request,
+                                         google::protobuf::Empty*) {
+  return guardCall(*context, auth_, [&] {
+    repository_.remove(meshIdFromName(request->name(), "name"));
+  });
+}
+
+grpc::Status MeshServiceImpl::DownloadMesh(grpc::ServerContext* context,
+                                           const v1::DownloadMeshRequest* request,
+                                           grpc::ServerWriter<v1::DownloadMeshResponse>* writer) {
+  return guardCall(*context, auth_, [&] {
+    MeshMetadata metadata = repository_.metadata(meshIdFromName(request->name(), "name"));
+    std::shared_ptr<const ControlMesh> mesh = repository_.mesh(metadata);
+    CancellationToken cancel = cancellationFor(*context);
+    StreamWatch::Call call = streams_.open(*context, "DownloadMesh");
+    Watched watched(*writer, call);
+    v1::DownloadMeshResponse first;
+    toProto(metadata, first.mutable_mesh());
+    if (!watched.Write(first)) throw OperationCancelled();
+    bool complete = forEachArraysChunk(*mesh, kDownloadChunkBytes, [&](const v1::MeshArrays& chunk) {
+      if (cancel.cancelled()) return false;
+      v1::DownloadMeshResponse message;
+      *message.mutable_arrays() = chunk;
+      return watched.Write(message);
+    });
+    if (!complete) throw OperationCancelled();
+  });
+}
+
+}  // namespace tessera::server

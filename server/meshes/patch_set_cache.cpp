@@ -1,0 +1,49 @@
+#include "server/meshes/patch_set_cache.h"
+
+#include "core/adaptive_surface.h"
+#include "core/memory_estimates.h"
+
+#include <vector>
+
+namespace tessera::server {
+namespace {
+
+template <typename T>
+size_t bytesOf(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// What a patch set holds, as charged against the budget.
+size_t bytesOf(const PatchSet& set) {
+  const RegularPatches& g = set.regular;
+  const RingSet& r = set.rings;
+  return sizeof(PatchSet) + bytesOf(g.bspline) + bytesOf(g.domains) + bytesOf(g.levels) +
+         bytesOf(r.shapes) + bytesOf(r.cornerEv) + bytesOf(r.levels) + bytesOf(r.pointOffsets) +
+         bytesOf(r.points) + bytesOf(r.centers) + bytesOf(r.spokeOffsets) + bytesOf(r.sharpSpokes) +
+         bytesOf(r.sectorOffsets) + bytesOf(r.sectorDomains) + bytesOf(r.sectorOwned) +
+         (set.adaptive ? set.adaptive->bytes() : 0);
+}
+
+}  // namespace
+
+std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, const std::string& meshId,
+                                                   const std::string& meshSha256, const CancellationToken& cancel,
+                                                   MemoryReservation* memory) {
+  const std::string key = meshId + "@" + meshSha256;
+  if (auto cached = cache_.find(key)) return cached;
+  PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+  int64_t held = 0;
+  if (memory) {
+    options.beforeRefining = [&](int64_t estimate) {
+      memory->hold(held, refinementBytes(estimate), "OpenSubdiv's refinement of the mesh");
+    };
+    options.afterRefining = [&](int64_t refined) {
+      memory->hold(held, preprocessingBytes(mesh, refined), "preprocessing the mesh");
+    };
+  }
+  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
+  cache_.insert(key, built, bytesOf(*built));
+  return built;
+}
+
+}  // namespace tessera::server

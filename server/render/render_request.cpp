@@ -1,0 +1,192 @@
+#include "server/render/render_request.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "server/calls/status_error.h"
+
+namespace tessera::server {
+namespace {
+
+namespace v1 = tessera::v1;
+
+constexpr double kDefaultPixelAccuracy = 0.5;
+constexpr double kDefaultEta = 0.5;
+
+// Presence is the proto's business; the values are core's (validateCamera).
+Vec3d requireVec3(bool present, const v1::Vec3& v, std::string_view field) {
+  if (!present) throwInvalidArgument(fmt::format("{}: is required", field));
+  return Vec3d(v.x(), v.y(), v.z());
+}
+
+// The renderer's target size and the server's pixel budget; the camera's own rules are core's.
+void checkViewport(const v1::Camera& c, std::string_view field, const TessellationLimits& limits) {
+  for (auto [value, name] : {std::pair{c.width(), "width"}, std::pair{c.height(), "height"}}) {
+    if (value < 1 || value > kMaxRenderViewportSide) {
+      throwInvalidArgument(fmt::format("{}.{}: must be in [1, {}] pixels (got {})", field, name,
+                                       kMaxRenderViewportSide, value));
+    }
+  }
+  if (int64_t(c.width()) * c.height() > limits.maxImagePixels) {
+    throwResourceExhausted(
+        fmt::format("{}: {}x{} pixels exceeds the server's max_image_pixels "
+                    "of {}",
+                    field, c.width(), c.height(), limits.maxImagePixels));
+  }
+}
+
+Accuracy checkAccuracy(const v1::RenderSettings& s, std::string_view field, const TessellationLimits& limits) {
+  Accuracy accuracy;
+  std::string where;
+  switch (s.accuracy_case()) {
+    case v1::RenderSettings::ACCURACY_NOT_SET:
+      accuracy = Accuracy::pixel(kDefaultPixelAccuracy);
+      break;
+    case v1::RenderSettings::kPixelAccuracy:
+      accuracy = Accuracy::pixel(s.pixel_accuracy());
+      where = fmt::format("{}.pixel_accuracy", field);
+      break;
+    case v1::RenderSettings::kAbsoluteTolerance:
+      accuracy = Accuracy::absolute(s.absolute_tolerance());
+      where = fmt::format("{}.absolute_tolerance", field);
+      break;
+    case v1::RenderSettings::kUniformLevel:
+      accuracy = Accuracy::uniformLevel(s.uniform_level());
+      where = fmt::format("{}.uniform_level", field);
+      break;
+  }
+  checkWithCore([&] { validateAccuracy(accuracy, where); });
+  if (accuracy.uniform() && accuracy.level > limits.maxUniformLevel) {
+    throwInvalidArgument(fmt::format("{}: {} is above the server's max_uniform_level of {}", where,
+                                     accuracy.level, limits.maxUniformLevel));
+  }
+  if (accuracy.pixelAccurate() && accuracy.pixels < limits.minPixelAccuracy) {
+    throwResourceExhausted(
+        fmt::format("{}.pixel_accuracy: {} is finer than the server's "
+                    "min_pixel_accuracy of {}",
+                    field, accuracy.pixels, limits.minPixelAccuracy));
+  }
+  return accuracy;
+}
+
+EncodingSettings checkEncoding(const v1::RenderSettings& s, std::string_view field) {
+  EncodingSettings out;
+  switch (s.format()) {
+    case v1::IMAGE_FORMAT_UNSPECIFIED:
+    case v1::IMAGE_FORMAT_PNG:
+      out.format = FrameFormat::kPng;
+      break;
+    case v1::IMAGE_FORMAT_JPEG:
+      out.format = FrameFormat::kJpeg;
+      break;
+    case v1::IMAGE_FORMAT_EXR:
+      out.format = FrameFormat::kExr;
+      break;
+    case v1::IMAGE_FORMAT_RAW_RGBA:
+      out.format = FrameFormat::kRawRgba;
+      break;
+    default:
+      throwInvalidArgument(
+          fmt::format("{}.format: unknown image format {}", field, static_cast<int>(s.format())));
+  }
+  if (s.has_jpeg_quality()) {
+    if (out.format != FrameFormat::kJpeg) {
+      throwInvalidArgument(
+          fmt::format("{}.jpeg_quality: applies to IMAGE_FORMAT_JPEG only", field));
+    }
+    out.jpegQuality = s.jpeg_quality();
+    if (out.jpegQuality < 1 || out.jpegQuality > 100) {
+      throwInvalidArgument(
+          fmt::format("{}.jpeg_quality: must be in [1, 100] (got {})", field, out.jpegQuality));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+CheckedRenderSettings checkRenderSettings(const v1::RenderSettings& s, std::string_view field,
+                                          const TessellationLimits& limits) {
+  CheckedRenderSettings out;
+  FrameSettings& frame = out.frame;
+  frame.accuracy = checkAccuracy(s, field, limits);
+  frame.eta = s.has_eta() ? s.eta() : kDefaultEta;
+  if (!std::isfinite(frame.eta) || frame.eta <= 0 || frame.eta >= 1) {
+    throwInvalidArgument(fmt::format("{}.eta: must be in (0, 1) (got {})", field, frame.eta));
+  }
+  frame.maxTriangles = limits.maxTriangles;
+  if (s.has_max_triangles()) {
+    int64_t max = s.max_triangles();
+    if (max < 0) {
+      throwInvalidArgument(
+          fmt::format("{}.max_triangles: must not be negative (got {})", field, max));
+    }
+    if (max > limits.maxTriangles) {
+      throwResourceExhausted(
+          fmt::format("{}.max_triangles: {} exceeds the server's "
+                      "max_triangles of {}",
+                      field, max, limits.maxTriangles));
+    }
+    if (max > 0) frame.maxTriangles = max;
+  }
+  frame.crackFilling = !s.has_crack_filling() || s.crack_filling();
+  out.encoding = checkEncoding(s, field);
+  return out;
+}
+
+void checkSettingsForMesh(const FrameSettings& settings, std::string_view field,
+                          const MeshMetadata& metadata, const TessellationLimits& limits) {
+  if (settings.accuracy.mode != Accuracy::Mode::kAbsolute) return;
+  const double diagonal = metadata.boundsDiagonal();
+  if (!(diagonal > 0)) {
+    throwStatus(
+        grpc::StatusCode::FAILED_PRECONDITION,
+        fmt::format("mesh {} has an empty bounding box, so a tolerance has no scale", metadata.id));
+  }
+  if (settings.accuracy.tolerance > diagonal) {
+    throwInvalidArgument(
+        fmt::format("{}.absolute_tolerance: {} is larger than the mesh's "
+                    "bounding-box diagonal ({})",
+                    field, settings.accuracy.tolerance, diagonal));
+  }
+  if (settings.accuracy.tolerance < limits.minRelativeTolerance * diagonal) {
+    throwResourceExhausted(fmt::format(
+        "{}.absolute_tolerance: {} ({} of the bounding-box "
+        "diagonal) is finer than the server's "
+        "min_relative_tolerance of {}",
+        field, settings.accuracy.tolerance, settings.accuracy.tolerance / diagonal, limits.minRelativeTolerance));
+  }
+}
+
+Camera checkRenderCamera(const v1::Camera& c, std::string_view field,
+                         const FrameSettings& settings, const TessellationLimits& limits) {
+  Camera camera{requireVec3(c.has_eye(), c.eye(), fmt::format("{}.eye", field)),
+                requireVec3(c.has_target(), c.target(), fmt::format("{}.target", field)),
+                requireVec3(c.has_up(), c.up(), fmt::format("{}.up", field)), c.fov_y_deg(), c.width(), c.height()};
+  checkViewport(c, field, limits);
+  checkWithCore([&] {
+    validateCamera(camera, field);
+    if (settings.accuracy.pixelAccurate()) {
+      validatePixelsForViewport(settings.accuracy.pixels, camera.width, camera.height, field);
+    }
+  });
+  return camera;
+}
+
+v1::ImageFormat toProto(FrameFormat format) {
+  switch (format) {
+    case FrameFormat::kPng:
+      return v1::IMAGE_FORMAT_PNG;
+    case FrameFormat::kJpeg:
+      return v1::IMAGE_FORMAT_JPEG;
+    case FrameFormat::kExr:
+      return v1::IMAGE_FORMAT_EXR;
+    case FrameFormat::kRawRgba:
+      return v1::IMAGE_FORMAT_RAW_RGBA;
+  }
+  return v1::IMAGE_FORMAT_UNSPECIFIED;
+}
+
+}  // namespace tessera::server

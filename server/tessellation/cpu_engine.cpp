@@ -1,0 +1,77 @@
+#include "server/tessellation/cpu_engine.h"
+
+#include <chrono>
+#include <string>
+
+#include "core/glb_output.h"
+#include "core/memory_estimates.h"
+#include "core/tessellate.h"
+
+namespace tessera::server {
+
+namespace {
+
+// `uvs`: the mesh has UVs, whose evaluation and seam copies the output's memory includes.
+TessellationOptions optionsFor(const TessellationJob& job, const CancellationToken& cancel, bool uvs) {
+  TessellationOptions options;
+  options.accuracy = job.accuracy;
+  options.camera = job.camera;
+  options.eta = job.eta;
+  if (job.maxTriangles > 0) options.maxTriangles = job.maxTriangles;
+  options.checkpoint = [&cancel] { cancel.throwIfCancelled(); };
+  if (job.memory) {
+    // The output's memory, reserved once the plan knows its triangles (and set again if
+    // planning goes round again).
+    options.beforeOutput = [memory = job.memory, uvs, held = int64_t(0)](int64_t triangles) mutable {
+      memory->hold(held, tessellationBytes(triangles, uvs), "the output (" + std::to_string(triangles) + " triangles)");
+    };
+  }
+  return options;
+}
+
+}  // namespace
+
+std::string CpuTessellationEngine::detail() const {
+  return "EBOAT on the CPU: OpenSubdiv Far preprocessing, CER FAS, watertight triangulation";
+}
+
+TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const TessellationJob& job,
+                                              const CancellationToken& cancel) {
+  using Clock = std::chrono::steady_clock;
+  auto seconds = [](Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); };
+  auto progress = [&](const char* stage, double fraction) {
+    if (job.reportProgress) job.reportProgress(stage, fraction);
+  };
+  TessellationOutput output;
+  auto start = Clock::now();
+  progress("preprocessing", 0.0);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel, job.memory);
+  output.summary.timings.push_back({"preprocess", seconds(start)});
+  cancel.throwIfCancelled();
+
+  progress("tessellating", 0.3);
+  start = Clock::now();
+  TessellationOptions options = optionsFor(job, cancel, mesh.hasUvs());
+  const std::optional<PositionQuantization> positions = reserveForEncoding(job.encoding, *patches, options);
+  TessellationResult result = tessellate(*patches, mesh, options);
+  output.summary.timings.push_back({"tessellate", seconds(start)});
+  cancel.throwIfCancelled();
+
+  progress("encoding", 0.9);
+  start = Clock::now();
+  output.glb = writeGlb(result.mesh, glbOptionsFor({job.encoding, job.meshId, job.meshSha256}, options,
+                                                   result.summary, positions));
+  output.summary.timings.push_back({"encode", seconds(start)});
+  const tessera::TessellationSummary& s = result.summary;
+  output.summary.triangles = s.triangles;
+  output.summary.patches = s.pieces;
+  output.summary.rings = s.rings;
+  output.summary.averageDepth = s.averageDepth;
+  output.summary.maxDepth = s.maxDepth;
+  output.summary.guaranteedBound = s.guaranteedBound;
+  output.summary.tolerance = s.tolerance;  // what was used: in pixel mode the smallest piece's ε
+  progress("done", 1.0);
+  return output;
+}
+
+}  // namespace tessera::server

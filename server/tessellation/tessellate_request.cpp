@@ -1,0 +1,157 @@
+#include "server/tessellation/tessellate_request.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "server/calls/status_error.h"
+
+namespace tessera::server {
+namespace {
+
+namespace v1 = tessera::v1;
+
+constexpr double kDefaultEta = 0.5;
+constexpr double kDefaultPixelAccuracy = 0.5;
+
+// Presence is the proto's business; the values are core's (validateCamera).
+Vec3d requireVec3(bool present, const v1::Vec3& v, const char* field) {
+  if (!present) throwInvalidArgument(fmt::format("{}: is required", field));
+  return Vec3d(v.x(), v.y(), v.z());
+}
+
+Camera checkCamera(const v1::PixelTolerance& pixel, const TessellationLimits& limits) {
+  if (!pixel.has_camera()) throwInvalidArgument("pixel.camera: is required");
+  const v1::Camera& c = pixel.camera();
+  Camera camera{requireVec3(c.has_eye(), c.eye(), "pixel.camera.eye"),
+                requireVec3(c.has_target(), c.target(), "pixel.camera.target"),
+                requireVec3(c.has_up(), c.up(), "pixel.camera.up"), c.fov_y_deg(), c.width(), c.height()};
+  checkWithCore([&] { validateCamera(camera, "pixel.camera"); });
+  if (int64_t(c.width()) * c.height() > limits.maxImagePixels) {
+    throwResourceExhausted(fmt::format("pixel.camera: {}x{} pixels exceeds the server's "
+                                       "max_image_pixels of {}",
+                                       c.width(), c.height(), limits.maxImagePixels));
+  }
+  return camera;
+}
+
+double checkPixelAccuracy(const v1::PixelTolerance& pixel, const Camera& camera,
+                          const TessellationLimits& limits) {
+  double accuracy = pixel.has_pixel_accuracy() ? pixel.pixel_accuracy() : kDefaultPixelAccuracy;
+  checkWithCore([&] {
+    validatePositiveFinite(accuracy, "pixel.pixel_accuracy");
+    validatePixelsForViewport(accuracy, camera.width, camera.height, "pixel.pixel_accuracy");
+  });
+  if (accuracy < limits.minPixelAccuracy) {
+    throwResourceExhausted(fmt::format("pixel.pixel_accuracy: {} is finer than the server's "
+                                       "min_pixel_accuracy of {}",
+                                       accuracy, limits.minPixelAccuracy));
+  }
+  return accuracy;
+}
+
+void checkTolerance(const v1::TessellateRequest& request, const TessellationLimits& limits) {
+  switch (request.tolerance_case()) {
+    case v1::TessellateRequest::kAbsolute:
+      return checkWithCore([&] { validateTolerance(request.absolute(), false, "absolute"); });
+    case v1::TessellateRequest::kRelative:
+      return checkWithCore([&] { validateTolerance(request.relative(), true, "relative"); });
+    case v1::TessellateRequest::kPixel: {
+      Camera camera = checkCamera(request.pixel(), limits);
+      checkPixelAccuracy(request.pixel(), camera, limits);
+      return;
+    }
+    case v1::TessellateRequest::TOLERANCE_NOT_SET:
+      if (!request.has_uniform_level()) {
+        throwInvalidArgument(
+            "tolerance: one of absolute, relative or pixel is required (or a uniform_level)");
+      }
+      return;
+  }
+}
+
+// ε in model units for an absolute or relative tolerance: the server's limits are checked
+// against the mesh's diagonal here, so the engine gets the value they were checked on.
+double checkedEpsilon(const v1::TessellateRequest& request, const MeshMetadata& metadata,
+                      const TessellationLimits& limits) {
+  const double diagonal = metadata.boundsDiagonal();
+  if (!(diagonal > 0)) {
+    throwStatus(grpc::StatusCode::FAILED_PRECONDITION,
+                fmt::format("mesh {} has an empty bounding box, so a tolerance has no scale",
+                            metadata.id));
+  }
+  const bool absolute = request.tolerance_case() == v1::TessellateRequest::kAbsolute;
+  const double epsilon = absolute ? request.absolute() : request.relative() * diagonal;
+  const char* field = absolute ? "absolute" : "relative";
+  if (absolute && epsilon > diagonal) {
+    throwInvalidArgument(fmt::format("absolute: {} is larger than the mesh's bounding-box diagonal "
+                                     "({})",
+                                     epsilon, diagonal));
+  }
+  if (epsilon < limits.minRelativeTolerance * diagonal) {
+    throwResourceExhausted(fmt::format("{}: a tolerance of {} ({} of the bounding-box diagonal) is "
+                                       "finer than the server's min_relative_tolerance of {}",
+                                       field, epsilon, epsilon / diagonal,
+                                       limits.minRelativeTolerance));
+  }
+  return epsilon;
+}
+
+}  // namespace
+
+void checkTessellateRequest(const v1::TessellateRequest& request, const TessellationLimits& limits) {
+  checkTolerance(request, limits);
+  if (request.has_eta()) {
+    double eta = request.eta();
+    if (!std::isfinite(eta) || eta < 0 || eta >= 1) {
+      throwInvalidArgument(fmt::format("eta: must be in [0, 1) (got {})", eta));
+    }
+  }
+  if (request.has_uniform_level()) {
+    checkWithCore([&] { validateUniformLevel(request.uniform_level(), "uniform_level"); });
+    if (request.uniform_level() > limits.maxUniformLevel) {
+      throwInvalidArgument(fmt::format("uniform_level: {} is above the server's max_uniform_level of {}",
+                                       request.uniform_level(), limits.maxUniformLevel));
+    }
+  }
+  if (!v1::GlbEncoding_IsValid(request.encoding())) {
+    throwInvalidArgument(fmt::format("encoding: unknown value {} (GLB_ENCODING_FLOAT, _QUANTIZED or _MESHOPT)",
+                                     int(request.encoding())));
+  }
+  if (request.has_max_triangles()) {
+    int64_t max = request.max_triangles();
+    if (max < 0) throwInvalidArgument(fmt::format("max_triangles: must not be negative (got {})", max));
+    if (max > limits.maxTriangles) {
+      throwResourceExhausted(fmt::format("max_triangles: {} exceeds the server's max_triangles of {}",
+                                         max, limits.maxTriangles));
+    }
+  }
+}
+
+TessellationJob planTessellationJob(const v1::TessellateRequest& request,
+                                    const MeshMetadata& metadata, const TessellationLimits& limits) {
+  TessellationJob job;
+  job.meshId = metadata.id;
+  job.meshSha256 = metadata.sha256;
+  job.eta = request.has_eta() ? request.eta() : kDefaultEta;
+  job.maxTriangles = request.has_max_triangles() && request.max_triangles() > 0
+                         ? request.max_triangles()
+                         : limits.maxTriangles;
+  job.encoding = request.encoding() == v1::GLB_ENCODING_QUANTIZED ? GlbEncoding::kQuantized
+                 : request.encoding() == v1::GLB_ENCODING_MESHOPT ? GlbEncoding::kMeshopt
+                                                                   : GlbEncoding::kFloat;
+  if (request.tolerance_case() == v1::TessellateRequest::kPixel) {
+    job.camera = checkCamera(request.pixel(), limits);
+    job.accuracy = Accuracy::pixel(checkPixelAccuracy(request.pixel(), *job.camera, limits));
+  } else if (request.tolerance_case() != v1::TessellateRequest::TOLERANCE_NOT_SET) {
+    job.accuracy = Accuracy::absolute(checkedEpsilon(request, metadata, limits));
+  }
+  // A level decides alone, whatever tolerance came with it (checked all the same).
+  if (request.has_uniform_level()) {
+    job.accuracy = Accuracy::uniformLevel(request.uniform_level());
+    job.camera.reset();
+  }
+  return job;
+}
+
+}  // namespace tessera::server
