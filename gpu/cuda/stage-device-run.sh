@@ -16,7 +16,7 @@ build="$root/build"
 [ -f "$build/CMakeCache.txt" ] || cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
 programs=(tests/cuda/tessera-cuda-tests gpu/cuda/tessera-cuda-bench gpu/cuda/tessera-cuda-table2
           tests/vulkan/tessera-render-tests tests/render_engine/tessera-render-engine-tests
-          gpu/vulkan/tessera-render-bench gpu/render_engine/tessera-frame-bench bench/tessera-bench)
+          bench/tessera-render-bench bench/tessera-frame-bench bench/tessera-bench)
 targets=()
 for program in "${programs[@]}"; do targets+=("$(basename "$program")"); done
 cmake --build "$build" -j"$(nproc)" --target "${targets[@]}"

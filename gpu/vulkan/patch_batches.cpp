@@ -5,22 +5,14 @@
 #include <string>
 
 #include "gpu/vulkan/vulkan_error.h"
+#include "shaders/include/tess_pattern_counts.h"
 
 namespace tessera::gpu {
 namespace {
 
-struct Levels {
-  uint32_t e[4];
-  uint32_t nu;
-  uint32_t nv;
-};
-
-Levels levelsOf(const uint32_t edgeLevels[4]) {
-  Levels L{};
-  for (int k = 0; k < 4; ++k) L.e[k] = std::max(edgeLevels[k], 1u);
-  L.nu = std::max(L.e[0], L.e[2]);
-  L.nv = std::max(L.e[1], L.e[3]);
-  return L;
+// Edge level k as the pattern uses it: at least 1 (and at most 64, which validatePatches checks).
+int levelOf(const uint32_t edgeLevels[4], int k) {
+  return int(std::max(edgeLevels[k], 1u));
 }
 
 void fail(size_t index, const std::string& what) {
@@ -30,16 +22,13 @@ void fail(size_t index, const std::string& what) {
 }  // namespace
 
 uint32_t patternVertexCount(const uint32_t edgeLevels[4]) {
-  Levels L = levelsOf(edgeLevels);
-  return L.e[0] + L.e[1] + L.e[2] + L.e[3] + (L.nu - 1) * (L.nv - 1);
+  auto e = [&](int k) { return levelOf(edgeLevels, k); };
+  return uint32_t(tessPatternVertices(e(0), e(1), e(2), e(3)));
 }
 
 uint32_t patternTriangleCount(const uint32_t edgeLevels[4]) {
-  Levels L = levelsOf(edgeLevels);
-  if (L.nu == 1) return L.e[1] + L.e[3];
-  if (L.nv == 1) return L.e[0] + L.e[2];
-  uint32_t strips = L.e[0] + L.e[1] + L.e[2] + L.e[3] + 2 * (L.nu - 2) + 2 * (L.nv - 2);
-  return strips + 2 * (L.nu - 2) * (L.nv - 2);
+  auto e = [&](int k) { return levelOf(edgeLevels, k); };
+  return uint32_t(tessPatternTriangles(e(0), e(1), e(2), e(3)));
 }
 
 void validatePatches(std::span<const RenderPatch> patches, uint32_t uniformLevel) {

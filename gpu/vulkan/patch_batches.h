@@ -21,7 +21,8 @@ struct GpuPatch {
 };
 static_assert(sizeof(GpuPatch) == 224, "must match GpuPatch in shaders/include/patch_data.glsl");
 
-// Counts of the tessellation pattern (the same formulas as shaders/include/tess_pattern.glsl).
+// Counts of the tessellation pattern, by the formulas the shaders use
+// (shaders/include/tess_pattern_counts.h).
 uint32_t patternVertexCount(const uint32_t edgeLevels[4]);
 uint32_t patternTriangleCount(const uint32_t edgeLevels[4]);
 

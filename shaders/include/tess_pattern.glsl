@@ -14,6 +14,8 @@
 #ifndef TESSERA_TESS_PATTERN_GLSL
 #define TESSERA_TESS_PATTERN_GLSL
 
+#include "tess_pattern_counts.h"
+
 // A vector rather than an array: shader compilers keep vectors in registers even when
 // indexed dynamically, where small arrays may go to scratch memory (slow on llvmpipe).
 struct TessLevels {
@@ -40,21 +42,14 @@ int boundaryVertexCount(TessLevels L) { return L.e.x + L.e.y + L.e.z + L.e.w; }
 
 bool isStripLess(TessLevels L) { return L.nu == 1 || L.nv == 1; }
 
-int patternVertexCount(TessLevels L) {
-  return boundaryVertexCount(L) + (L.nu - 1) * (L.nv - 1);
-}
+int patternVertexCount(TessLevels L) { return tessPatternVertices(L.e.x, L.e.y, L.e.z, L.e.w); }
 
 int stripTriangleCount(TessLevels L, int side) {
   int n = (side % 2 == 0) ? L.nu : L.nv;
   return L.e[side] + n - 2;
 }
 
-int patternTriangleCount(TessLevels L) {
-  if (L.nu == 1) return L.e[1] + L.e[3];
-  if (L.nv == 1) return L.e[0] + L.e[2];
-  int strips = boundaryVertexCount(L) + 2 * (L.nu - 2) + 2 * (L.nv - 2);
-  return strips + 2 * (L.nu - 2) * (L.nv - 2);
-}
+int patternTriangleCount(TessLevels L) { return tessPatternTriangles(L.e.x, L.e.y, L.e.z, L.e.w); }
 
 // Where a vertex sits: on boundary side `side` (0..3) at CCW step `step`, or inside (side 4).
 struct PatternVertex {
