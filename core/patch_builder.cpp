@@ -1,4 +1,4 @@
-// Preprocessing (paper §3.2, DESIGN.md "Preprocessing"): OpenSubdiv's adaptive refinement
+// Preprocessing (paper §3.2, docs/DECISIONS.md "Preprocessing"): OpenSubdiv's adaptive refinement
 // isolates every irregular feature; its patch table then names the regular B-spline patches,
 // and the faces left irregular at the last level (its end caps) are exactly the inner faces of
 // extraordinary rings, which we gather in CER order with the lattice walker.

@@ -1,5 +1,6 @@
 // OpenSubdiv Bfr as the exact limit-surface reference, with its approximation levels raised
-// (DESIGN.md: at the default of 2 Bfr itself is ~1e-4 of the diagonal off near EVs).
+// (docs/DECISIONS.md "References in tests": at the default of 2 Bfr itself is ~1e-4 of the
+// diagonal off near EVs).
 #pragma once
 
 #include <map>

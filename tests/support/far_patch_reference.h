@@ -1,6 +1,6 @@
 // OpenSubdiv Far's own limit evaluation (patch table isolated to level 10, Gregory end caps), the
 // reference for shapes that Debian's Bfr 3.5.0 gets wrong (valence-2 interior vertices, fixed
-// upstream in 3.5.1; see DESIGN.md). Exact for every piece at Far level <= 10.
+// upstream in 3.5.1; docs/DECISIONS.md "References in tests"). Exact for every piece at Far level <= 10.
 #pragma once
 
 #include <memory>
