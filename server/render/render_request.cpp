@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "server/calls/camera_request.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {
@@ -14,28 +15,6 @@ namespace v1 = tessera::v1;
 
 constexpr double kDefaultPixelAccuracy = 0.5;
 constexpr double kDefaultEta = 0.5;
-
-// Presence is the proto's business; the values are core's (validateCamera).
-Vec3d requireVec3(bool present, const v1::Vec3& v, std::string_view field) {
-  if (!present) throwInvalidArgument(fmt::format("{}: is required", field));
-  return Vec3d(v.x(), v.y(), v.z());
-}
-
-// The renderer's target size and the server's pixel budget; the camera's own rules are core's.
-void checkViewport(const v1::Camera& c, std::string_view field, const TessellationLimits& limits) {
-  for (auto [value, name] : {std::pair{c.width(), "width"}, std::pair{c.height(), "height"}}) {
-    if (value < 1 || value > kMaxRenderViewportSide) {
-      throwInvalidArgument(fmt::format("{}.{}: must be in [1, {}] pixels (got {})", field, name,
-                                       kMaxRenderViewportSide, value));
-    }
-  }
-  if (int64_t(c.width()) * c.height() > limits.maxImagePixels) {
-    throwResourceExhausted(
-        fmt::format("{}: {}x{} pixels exceeds the server's max_image_pixels "
-                    "of {}",
-                    field, c.width(), c.height(), limits.maxImagePixels));
-  }
-}
 
 Accuracy checkAccuracy(const v1::RenderSettings& s, std::string_view field, const TessellationLimits& limits) {
   Accuracy accuracy;
@@ -162,16 +141,10 @@ void checkSettingsForMesh(const FrameSettings& settings, std::string_view field,
 
 Camera checkRenderCamera(const v1::Camera& c, std::string_view field,
                          const FrameSettings& settings, const TessellationLimits& limits) {
-  Camera camera{requireVec3(c.has_eye(), c.eye(), fmt::format("{}.eye", field)),
-                requireVec3(c.has_target(), c.target(), fmt::format("{}.target", field)),
-                requireVec3(c.has_up(), c.up(), fmt::format("{}.up", field)), c.fov_y_deg(), c.width(), c.height()};
-  checkViewport(c, field, limits);
-  checkWithCore([&] {
-    validateCamera(camera, field);
-    if (settings.accuracy.pixelAccurate()) {
-      validatePixelsForViewport(settings.accuracy.pixels, camera.width, camera.height, field);
-    }
-  });
+  const Camera camera = checkedCamera(c, field, kMaxRenderViewportSide, limits.maxImagePixels);
+  if (settings.accuracy.pixelAccurate()) {
+    checkWithCore([&] { validatePixelsForViewport(settings.accuracy.pixels, camera.width, camera.height, field); });
+  }
   return camera;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "server/calls/camera_request.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {
@@ -14,25 +15,9 @@ namespace v1 = tessera::v1;
 constexpr double kDefaultEta = 0.5;
 constexpr double kDefaultPixelAccuracy = 0.5;
 
-// Presence is the proto's business; the values are core's (validateCamera).
-Vec3d requireVec3(bool present, const v1::Vec3& v, const char* field) {
-  if (!present) throwInvalidArgument(fmt::format("{}: is required", field));
-  return Vec3d(v.x(), v.y(), v.z());
-}
-
 Camera checkCamera(const v1::PixelTolerance& pixel, const TessellationLimits& limits) {
   if (!pixel.has_camera()) throwInvalidArgument("pixel.camera: is required");
-  const v1::Camera& c = pixel.camera();
-  Camera camera{requireVec3(c.has_eye(), c.eye(), "pixel.camera.eye"),
-                requireVec3(c.has_target(), c.target(), "pixel.camera.target"),
-                requireVec3(c.has_up(), c.up(), "pixel.camera.up"), c.fov_y_deg(), c.width(), c.height()};
-  checkWithCore([&] { validateCamera(camera, "pixel.camera"); });
-  if (int64_t(c.width()) * c.height() > limits.maxImagePixels) {
-    throwResourceExhausted(fmt::format("pixel.camera: {}x{} pixels exceeds the server's "
-                                       "max_image_pixels of {}",
-                                       c.width(), c.height(), limits.maxImagePixels));
-  }
-  return camera;
+  return checkedCamera(pixel.camera(), "pixel.camera", kMaxViewportSide, limits.maxImagePixels);
 }
 
 double checkPixelAccuracy(const v1::PixelTolerance& pixel, const Camera& camera,
