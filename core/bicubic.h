@@ -3,6 +3,7 @@
 // row-major, index 4*row + col, col along s (u), row along t (v).
 #pragma once
 
+#include "core/cubic_bernstein.h"
 #include "core/host_device.h"
 #include "core/vec3.h"
 
@@ -21,18 +22,8 @@ TESSERA_HD void bsplineBasis(T t, T w[4], T dw[4]) {
   dw[3] = t * t / T(2);
 }
 
-template <typename T>
-TESSERA_HD void bernsteinBasis(T t, T w[4], T dw[4]) {
-  T s = T(1) - t;
-  w[0] = s * s * s;
-  w[1] = T(3) * t * s * s;
-  w[2] = T(3) * t * t * s;
-  w[3] = t * t * t;
-  dw[0] = -T(3) * s * s;
-  dw[1] = T(3) * s * s - T(6) * t * s;
-  dw[2] = T(6) * t * s - T(3) * t * t;
-  dw[3] = T(3) * t * t;
-}
+// The Bernstein basis is core/cubic_bernstein.h's, which the shaders share.
+TESSERA_HD void bernsteinBasis(double t, double w[4], double dw[4]) { cubicBernstein(t, w, dw); }
 
 struct PatchSample {
   Vec3d position, dPds, dPdt;

@@ -7,11 +7,14 @@
 // [[unroll]] keeps control-point indices constant, so the 16 points stay in registers.
 #extension GL_EXT_control_flow_attributes : require
 
-// Cubic Bernstein basis at t and its derivative.
+#include "core/cubic_bernstein.h"
+
+// Cubic Bernstein basis at t and its derivative, as vectors (kept in registers).
 void bernstein3(float t, out vec4 b, out vec4 d) {
-  float s = 1.0 - t;
-  b = vec4(s * s * s, 3.0 * s * s * t, 3.0 * s * t * t, t * t * t);
-  d = vec4(-3.0 * s * s, 3.0 * s * (s - 2.0 * t), 3.0 * t * (2.0 * s - t), 3.0 * t * t);
+  float w[4], dw[4];
+  cubicBernstein(t, w, dw);
+  b = vec4(w[0], w[1], w[2], w[3]);
+  d = vec4(dw[0], dw[1], dw[2], dw[3]);
 }
 
 // Surface point and partial derivatives; cp is row-major, cp[4*j+i] = b_ij (u = i/3, v = j/3).
