@@ -7,9 +7,11 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/cer_layout.h"
+#include "core/fas_rules.h"
 
 namespace tessera {
 
@@ -25,5 +27,15 @@ inline constexpr int kBoundTiles = 14;
 // c_0 .. c_maxDepth for a ring kind.
 std::vector<double> computeDepthBound(const RingKind& kind, int maxDepth = kMaxTableDepth,
                                       int tiles = kBoundTiles);
+
+// An approximation of sector `sector`'s innermost quad: its 16 Bézier control points (row-major,
+// s along spoke `sector`) as a linear function of the ring's points.
+using SectorApproximation = std::function<void(int sector, const double* ring, double out[16])>;
+
+// The same bound for any approximation (computeDepthBound's is innermostBezier; the benchmarks
+// compare the control polyhedron's): c_m over every sector, or over sector 0 alone when the ring
+// looks the same from each (`oneSector`).
+std::vector<double> approximationBound(const RingRules& rules, bool oneSector, const SectorApproximation& approximate,
+                                       int maxDepth = kMaxTableDepth, int tiles = kBoundTiles);
 
 }  // namespace tessera
