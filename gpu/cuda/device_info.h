@@ -1,4 +1,5 @@
-// Which CUDA device Tessera would run on, for server info and for tests that need a device.
+// Which CUDA device Tessera would run on, for the tests and benchmarks that need one (and, once
+// the server has a CUDA engine, for its server info).
 // Plain C++ (no CUDA types). Never throws and never crashes when the driver or the device is
 // missing: `available` is false and `reason` says why, in CUDA's own words.
 #pragma once
