@@ -1,6 +1,6 @@
 #include "client/camera_flags.h"
 
-#include "client/flag_values.h"
+#include "core/camera_text.h"
 #include "core/error.h"
 
 namespace tessera::cli {
@@ -8,13 +8,13 @@ namespace tessera::cli {
 namespace {
 
 Vec3d parseVector(const std::string& text, const char* flag) {
-  const std::optional<FlagVector> v = parseXyz(text);
+  const std::optional<TypedVector> v = parseXyz(text);
   if (!v) throwInvalid(std::string("--") + flag + " expects X,Y,Z, got '" + text + "'");
   return {v->x, v->y, v->z};
 }
 
 void parseSize(const std::string& text, int& width, int& height) {
-  const std::optional<FlagSize> size = parseWxH(text);
+  const std::optional<TypedSize> size = parseWxH(text);
   if (!size) throwInvalid("--size expects WIDTHxHEIGHT, got '" + text + "'");
   width = size->width, height = size->height;
 }

@@ -12,7 +12,7 @@
 #include <regex>
 #include <stdexcept>
 
-#include "client/flag_values.h"
+#include "core/camera_text.h"
 #include "client/remote_progress.h"
 #include "tessera/v1/render.grpc.pb.h"
 
@@ -36,7 +36,7 @@ struct Vector {
 };
 
 Vector parseVector(const std::string& text, const char* flag) {
-  const std::optional<cli::FlagVector> v = cli::parseXyz(text);
+  const std::optional<TypedVector> v = parseXyz(text);
   if (!v) throw UsageError(fmt::format("{} expects X,Y,Z (got \"{}\")", flag, text));
   return {v->x, v->y, v->z};
 }
@@ -67,7 +67,7 @@ std::vector<v1::Camera> buildCameras(const RemoteRenderArgs& a) {
   *base.mutable_target() = toProto(target);
   *base.mutable_up() = toProto(up);
   base.set_fov_y_deg(a.fovDeg);
-  const std::optional<cli::FlagSize> size = cli::parseWxH(a.size);
+  const std::optional<TypedSize> size = parseWxH(a.size);
   if (!size) throw UsageError(fmt::format("--size expects WIDTHxHEIGHT (got \"{}\")", a.size));
   base.set_width(size->width);
   base.set_height(size->height);

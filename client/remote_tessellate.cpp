@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "client/commands.h"
-#include "client/flag_values.h"
+#include "core/camera_text.h"
 #include "client/remote_progress.h"
 #include "core/error.h"
 #include "core/glb_writer.h"
@@ -27,7 +27,7 @@ class UsageError : public std::runtime_error {
 };
 
 v1::Vec3 parseVec3(const std::string& text, const char* flag) {
-  const std::optional<cli::FlagVector> parsed = cli::parseXyz(text);
+  const std::optional<TypedVector> parsed = parseXyz(text);
   if (!parsed) throw UsageError(fmt::format("{} expects X,Y,Z (got \"{}\")", flag, text));
   v1::Vec3 v;
   v.set_x(parsed->x), v.set_y(parsed->y), v.set_z(parsed->z);
@@ -35,7 +35,7 @@ v1::Vec3 parseVec3(const std::string& text, const char* flag) {
 }
 
 void parseSize(const std::string& text, v1::Camera& camera) {
-  const std::optional<cli::FlagSize> size = cli::parseWxH(text);
+  const std::optional<TypedSize> size = parseWxH(text);
   if (!size) throw UsageError(fmt::format("--size expects WIDTHxHEIGHT (got \"{}\")", text));
   camera.set_width(size->width);
   camera.set_height(size->height);
