@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -19,6 +20,7 @@
 
 #include "server/operations/log_format.h"
 #include "server/meshes/mesh_service.h"
+#include "server/http/http_front_door.h"
 #include "server/operations/metrics_http_server.h"
 #include "server/render/render_backend_factory.h"
 #include "server/app/reflection_v1.h"
@@ -142,12 +144,13 @@ void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repositor
 
 // Written via a temporary file and a rename, so a reader never sees half of it.
 void writeReadyFile(const std::string& path, const std::string& grpcAddress,
-                    const std::string& metricsAddress) {
+                    const std::string& metricsAddress, const std::string& httpAddress) {
   std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary);
     out << "grpc=" << grpcAddress << "\n";
     if (!metricsAddress.empty()) out << "metrics=" << metricsAddress << "\n";
+    if (!httpAddress.empty()) out << "http=" << httpAddress << "\n";
     if (!out) throw std::runtime_error("--ready-file: cannot write " + temporary);
   }
   std::filesystem::rename(temporary, path);
@@ -211,6 +214,16 @@ std::unique_ptr<MetricsHttpServer> startMetricsServer(const ServerConfig& config
   return server;
 }
 
+// The HTTP front door over the server's own services (in process), when configured.
+std::unique_ptr<HttpFrontDoor> startFrontDoor(const ServerConfig& config, grpc::Server& server) {
+  if (config.httpListen == "off" || config.httpListen.empty()) return nullptr;
+  auto frontDoor = std::make_unique<HttpFrontDoor>(
+      HttpFrontDoorOptions{config.httpListen, config.httpCorsOrigin, kVersion},
+      server.InProcessChannel(grpc::ChannelArguments()));
+  frontDoor->start();
+  return frontDoor;
+}
+
 // Load balancers see NOT_SERVING first; running calls then get the grace period to finish.
 void shutDown(grpc::Server& server, double graceSeconds) {
   server.GetHealthCheckService()->SetServingStatus(false);
@@ -237,6 +250,9 @@ int runServer(const ServerConfig& config) {
   sigaddset(&stopSignals, SIGINT);
   sigaddset(&stopSignals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stopSignals, nullptr);
+  // A client that closes its connection while a response is being written must cost only that
+  // response: cpp-httplib writes without MSG_NOSIGNAL, so SIGPIPE would end the process.
+  std::signal(SIGPIPE, SIG_IGN);
 
   std::unique_ptr<MeshStore> store = openMeshStore(
       config.store, std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::duration<double>(config.storeTimeoutSeconds)));
@@ -289,12 +305,13 @@ int runServer(const ServerConfig& config) {
     return 1;
   }
   std::unique_ptr<MetricsHttpServer> metricsServer = startMetricsServer(config, registry);
+  std::unique_ptr<HttpFrontDoor> frontDoor = startFrontDoor(config, *server);
   std::string address = boundAddress(config.listen, port);
   spdlog::info("tessera-server {} listening on {} (store {}, {} TLS, auth {}, reflection {}, "
-               "metrics {})",
+               "metrics {}, http {})",
                kVersion, address, store->kind(), config.tlsCert.empty() ? "no" : "with",
                auth.enabled() ? "on" : "off", reflection ? "on" : "off",
-               metricsServer ? metricsServer->address() : "off");
+               metricsServer ? metricsServer->address() : "off", frontDoor ? frontDoor->address() : "off");
   spdlog::info("memory budget {}: {} for jobs, {} for the caches", formatBytes(config.memoryBudget),
                formatBytes(config.jobMemoryBytes), formatBytes(config.cacheBytes + config.patchCacheBytes));
   if (!auth.enabled() && !listensOnLoopbackOnly(config.listen)) {
@@ -302,18 +319,24 @@ int runServer(const ServerConfig& config) {
                  "connect may upload, read and delete meshes",
                  address);
   }
+  if (frontDoor && !auth.enabled() && !listensOnLoopbackOnly(config.httpListen)) {
+    spdlog::warn("the HTTP front door {} is reachable from other machines and no --token is set",
+                 frontDoor->address());
+  }
   // Health follows the store from now on (NOT_SERVING while it cannot serve).
   std::optional<StoreHealth> storeHealth;
   storeHealth.emplace(
       *store, [&server](bool serving) { server->GetHealthCheckService()->SetServingStatus(serving); },
       StoreHealth::Timing{});
   if (!config.readyFile.empty()) {
-    writeReadyFile(config.readyFile, address, metricsServer ? metricsServer->address() : "");
+    writeReadyFile(config.readyFile, address, metricsServer ? metricsServer->address() : "",
+                   frontDoor ? frontDoor->address() : "");
   }
 
   int signal = waitForStopSignal(stopSignals);
   spdlog::info("signal {} received: shutting down", signal);
   storeHealth.reset();  // no probe may report SERVING while the server drains
+  if (frontDoor) frontDoor->stop();  // before the services it calls go
   shutDown(*server, config.shutdownGraceSeconds);
   if (metricsServer) metricsServer->stop();
   spdlog::info("stopped");

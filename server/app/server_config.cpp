@@ -11,7 +11,7 @@
 
 #include "server/calls/admission_control.h"  // formatBytes
 #include "server/calls/machine_memory.h"
-#include "server/operations/metrics_http_server.h"  // splitHostPort
+#include "server/http/http_listener.h"  // splitHostPort
 
 namespace tessera::server {
 namespace {
@@ -134,6 +134,13 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
                          "Prometheus /metrics address HOST:PORT, or off")
               ->capture_default_str(),
           "TESSERA_METRICS_LISTEN");
+  withEnv(app.add_option("--http-listen", c.httpListen,
+                         "HTTP front door (REST/JSON, GLBs, frames) address HOST:PORT, or off")
+              ->capture_default_str(),
+          "TESSERA_HTTP_LISTEN");
+  withEnv(app.add_option("--http-cors-origin", c.httpCorsOrigin,
+                         "Origin the HTTP front door allows for browsers (\"*\" for any); none by default"),
+          "TESSERA_HTTP_CORS_ORIGIN");
   withEnv(app.add_option("--ready-file", c.readyFile,
                          "Once serving, write the bound addresses to FILE (for scripts, tests)"),
           "TESSERA_READY_FILE");

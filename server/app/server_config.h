@@ -23,6 +23,8 @@ struct ServerConfig {
   std::string tlsCert;
   std::string tlsKey;
   std::string metricsListen = "127.0.0.1:9464";  // "off" disables
+  std::string httpListen = "off";                 // the HTTP front door (server/http/), off by default
+  std::string httpCorsOrigin;                     // "" sends no CORS headers
   std::string readyFile;
   std::string logLevel = "info";
   std::string logFormat = "text";  // or "json" (log_format.h)

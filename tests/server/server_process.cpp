@@ -131,6 +131,7 @@ std::unique_ptr<ServerProcess> ServerProcess::start(const std::filesystem::path&
   auto values = readKeyValues(ready);
   server->address_ = values["grpc"];
   server->metricsAddress_ = values["metrics"];
+  server->httpAddress_ = values["http"];
   if (awaitServing && !waitForHealth(server->channel(), kServing)) {
     ADD_FAILURE() << "tessera-server never reported SERVING; its log:\n" << server->log();
     return nullptr;

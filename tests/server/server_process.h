@@ -30,6 +30,8 @@ class ServerProcess {
 
   const std::string& address() const { return address_; }
   const std::string& metricsAddress() const { return metricsAddress_; }
+  // The HTTP front door's address when the flags asked for one (--http-listen), else "".
+  const std::string& httpAddress() const { return httpAddress_; }
   // A new channel (connections are not shared between channels made here); with TLS when the
   // server was started with --tls-cert, trusting that certificate.
   std::shared_ptr<grpc::Channel> channel() const;
@@ -49,6 +51,7 @@ class ServerProcess {
   std::filesystem::path logPath_;
   std::string address_;
   std::string metricsAddress_;
+  std::string httpAddress_;
   std::string tlsCertificate_;  // PEM, when the server runs with TLS
 };
 
