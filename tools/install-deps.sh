@@ -20,8 +20,8 @@ packages=(
   # service
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   libsqlite3-dev libpq-dev postgresql
-  # the HTTP front door and the metrics port (server/http/)
-  libcpp-httplib-dev
+  # the HTTP front door and the metrics port (server/http/); the web viewer's test browser
+  libcpp-httplib-dev chromium
   libssl-dev
   # the Python client (client/python) and its tests, on Debian's python3
   python3-grpcio python3-protobuf python3-numpy python3-venv python3-pip python3-setuptools python3-wheel

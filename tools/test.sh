@@ -9,8 +9,9 @@ tools/install-deps.sh
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp/tessera-xdg}"
 mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
 tools/build.sh
-# Khronos glTF-Validator (npm) for the GLB tests.
+# Khronos glTF-Validator (npm) for the GLB tests; puppeteer-core (npm) for the web viewer's test.
 (cd tests/gltf && npm ci --no-audit --no-fund --loglevel=error)
+(cd tests/web && npm ci --no-audit --no-fund --loglevel=error)
 
 TESSERA_TEST_POSTGRES_URL="$(tools/pg-test-cluster.sh start)"
 export TESSERA_TEST_POSTGRES_URL

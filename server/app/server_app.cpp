@@ -218,7 +218,7 @@ std::unique_ptr<MetricsHttpServer> startMetricsServer(const ServerConfig& config
 std::unique_ptr<HttpFrontDoor> startFrontDoor(const ServerConfig& config, grpc::Server& server) {
   if (config.httpListen == "off" || config.httpListen.empty()) return nullptr;
   auto frontDoor = std::make_unique<HttpFrontDoor>(
-      HttpFrontDoorOptions{config.httpListen, config.httpCorsOrigin, kVersion},
+      HttpFrontDoorOptions{config.httpListen, config.httpCorsOrigin, kVersion, config.httpWebRoot},
       server.InProcessChannel(grpc::ChannelArguments()));
   frontDoor->start();
   return frontDoor;

@@ -141,6 +141,10 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
   withEnv(app.add_option("--http-cors-origin", c.httpCorsOrigin,
                          "Origin the HTTP front door allows for browsers (\"*\" for any); none by default"),
           "TESSERA_HTTP_CORS_ORIGIN");
+  withEnv(app.add_option("--http-web-root", c.httpWebRoot,
+                         "Folder of the web viewer the HTTP front door serves at / (built into build/web)")
+              ->capture_default_str(),
+          "TESSERA_HTTP_WEB_ROOT");
   withEnv(app.add_option("--ready-file", c.readyFile,
                          "Once serving, write the bound addresses to FILE (for scripts, tests)"),
           "TESSERA_READY_FILE");

@@ -25,6 +25,7 @@ struct ServerConfig {
   std::string metricsListen = "127.0.0.1:9464";  // "off" disables
   std::string httpListen = "off";                 // the HTTP front door (server/http/), off by default
   std::string httpCorsOrigin;                     // "" sends no CORS headers
+  std::string httpWebRoot = TESSERA_DEFAULT_WEB_ROOT;  // the web viewer's files (client/web, built)
   std::string readyFile;
   std::string logLevel = "info";
   std::string logFormat = "text";  // or "json" (log_format.h)

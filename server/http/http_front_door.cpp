@@ -10,6 +10,8 @@
 
 #include <charconv>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 
 #include "core/sha256.h"
 #include "server/calls/status_error.h"
@@ -316,6 +318,25 @@ void frame(const HttpFrontDoor::Services& s, const httplib::Request& request, ht
   response.set_content(image, png ? "image/png" : "image/jpeg");
 }
 
+// The viewer: its page at /, its scripts and three.js under /web/ (static files, no listing).
+void addViewer(const std::string& root, httplib::Server& http) {
+  const bool present = !root.empty() && std::filesystem::is_regular_file(std::filesystem::path(root) / "index.html");
+  if (present) http.set_mount_point("/web", root);
+  http.Get("/", [root, present](const httplib::Request&, httplib::Response& response) {
+    if (!present) {
+      response.status = 404;
+      response.set_content(errorJson(grpc::Status(grpc::StatusCode::NOT_FOUND,
+                                                   fmt::format("no web viewer at --http-web-root \"{}\" (it is built "
+                                                               "into build/web when npm is present)",
+                                                               quoteForMessage(root)))),
+                           "application/json");
+      return;
+    }
+    std::ifstream page(std::filesystem::path(root) / "index.html", std::ios::binary);
+    response.set_content(std::string(std::istreambuf_iterator<char>(page), {}), "text/html; charset=utf-8");
+  });
+}
+
 void addCors(const std::string& origin, httplib::Server& http) {
   if (origin.empty()) return;
   http.set_post_routing_handler([origin](const httplib::Request&, httplib::Response& response) {
@@ -350,6 +371,7 @@ HttpFrontDoor::HttpFrontDoor(HttpFrontDoorOptions options, std::shared_ptr<grpc:
   http.Delete(mesh, guarded([&s](auto& rq, auto& rs) { deleteMesh(s, rq, rs); }));
   http.Get(mesh + "/tessellation\\.glb", guarded([&s](auto& rq, auto& rs) { tessellation(s, rq, rs); }));
   http.Get(mesh + "/frame\\.(png|jpg)", guarded([&s](auto& rq, auto& rs) { frame(s, rq, rs); }));
+  addViewer(s.options.webRoot, http);
   addCors(s.options.corsOrigin, http);
   http.set_error_handler([](const httplib::Request& request, httplib::Response& response) {
     if (!response.body.empty()) return;

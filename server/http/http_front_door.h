@@ -13,6 +13,8 @@
 //          streamed, with a strong ETag (the GLB is deterministic for the mesh's content, the
 //          request and the server's version): If-None-Match answers 304 without tessellating
 //   GET    /v1/meshes/ID/frame.png|frame.jpg?...    Render, one camera → image/png or image/jpeg
+//   GET    /  and  /web/...                         the web viewer (client/web) and three.js, from
+//                                                    the web root, when there is one
 //
 // JSON is protobuf's mapping of the API's messages (lowerCamelCase fields). With a CORS origin
 // configured, responses carry Access-Control-Allow-Origin and preflights are answered.
@@ -31,6 +33,7 @@ struct HttpFrontDoorOptions {
   std::string listen;      // HOST:PORT; port 0 picks a free one
   std::string corsOrigin;  // "" sends no CORS headers; "*" or one origin
   std::string version;     // the server's, part of every ETag
+  std::string webRoot;     // the viewer's files (client/web, built); "" or missing: no viewer
 };
 
 class HttpFrontDoor {
