@@ -37,6 +37,8 @@ sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
 # Node.js runs Khronos' glTF validator in the tests; keep an existing install (it may carry its own npm).
 command -v node >/dev/null || packages+=(nodejs)
 command -v npm >/dev/null || packages+=(npm)
+# kubectl kustomize builds deploy/kubernetes for its offline validation; keep a newer kubectl.
+command -v kubectl >/dev/null || packages+=(kubernetes-client)
 
 missing=()
 for package in "${packages[@]}"; do

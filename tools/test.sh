@@ -12,6 +12,8 @@ tools/build.sh
 # Khronos glTF-Validator (npm) for the GLB tests; puppeteer-core (npm) for the web viewer's test.
 (cd tests/gltf && npm ci --no-audit --no-fund --loglevel=error)
 (cd tests/web && npm ci --no-audit --no-fund --loglevel=error)
+# kubernetes-models (npm) for the offline validation of deploy/kubernetes.
+(cd tests/deploy && npm ci --no-audit --no-fund --loglevel=error)
 
 TESSERA_TEST_POSTGRES_URL="$(tools/pg-test-cluster.sh start)"
 export TESSERA_TEST_POSTGRES_URL
