@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "client/commands.h"
+#include "client/service_config.h"
 #include "tessera/status_names.h"
 
 namespace tessera::cli {
@@ -31,7 +32,8 @@ std::string optionValue(const CLI::App& root, const char* name, const std::strin
 
 void addEndpointOptions(CLI::App& app, RemoteEndpoint& endpoint) {
   const char* group = "Server connection";
-  app.add_option("--server", endpoint.server, "tessera-server address HOST:PORT")
+  app.add_option("--server", endpoint.server,
+                 "tessera-server address HOST:PORT, or a gRPC target with several (dns:///NAME:PORT, ipv4:A:P,B:P)")
       ->envname("TESSERA_SERVER")
       ->capture_default_str()
       ->group(group);
@@ -67,7 +69,9 @@ std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint,
   } else {
     credentials = grpc::InsecureChannelCredentials();
   }
-  return grpc::CreateCustomChannel(endpoint.server, credentials, arguments);
+  grpc::ChannelArguments withPolicy = arguments;
+  withPolicy.SetServiceConfigJSON(kClientServiceConfig);
+  return grpc::CreateCustomChannel(endpoint.server, credentials, withPolicy);
 }
 
 void prepareContext(grpc::ClientContext& context, const RemoteEndpoint& endpoint,

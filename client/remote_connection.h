@@ -17,7 +17,7 @@ namespace tessera::cli {
 inline constexpr const char* kDefaultServer = "127.0.0.1:50051";
 
 struct RemoteEndpoint {
-  std::string server = kDefaultServer;  // HOST:PORT
+  std::string server = kDefaultServer;  // HOST:PORT, or any gRPC target (dns:///..., ipv4:A,B)
   std::string token;                    // bearer token; empty: none
   bool tls = false;
   std::string caCert;  // PEM file of the CA to trust (implies tls); empty: system roots
@@ -30,6 +30,7 @@ void addEndpointOptions(CLI::App& app, RemoteEndpoint& endpoint);
 // registered elsewhere, such as the local `tessellate` handing a meshes/ name to the remote one.
 RemoteEndpoint endpointFromApp(const CLI::App& root);
 
+// With the service config of client/service_config.h (round_robin, retries of UNAVAILABLE).
 std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint);
 // The same with channel arguments (e.g. a local subchannel pool, so that the channel gets a
 // connection of its own instead of sharing one with every other channel to the same address).

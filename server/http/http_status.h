@@ -13,8 +13,7 @@
 namespace tessera::server {
 
 int httpStatusFor(grpc::StatusCode code);
-// "INVALID_ARGUMENT", as gRPC names it.
-std::string statusCodeName(grpc::StatusCode code);
+// The JSON body, the code named as gRPC names it (tessera/status_names.h).
 std::string errorJson(const grpc::Status& status);
 
 }  // namespace tessera::server
