@@ -224,9 +224,13 @@ std::unique_ptr<HttpFrontDoor> startFrontDoor(const ServerConfig& config, grpc::
   return frontDoor;
 }
 
-// Load balancers see NOT_SERVING first; running calls then get the grace period to finish.
-void shutDown(grpc::Server& server, double graceSeconds) {
+// Load balancers and health-checking clients see NOT_SERVING first and, during the drain delay,
+// stop sending; new calls are refused after it, and running ones get the grace period to finish.
+// Without the delay, a call that reaches gRPC as it shuts down is cancelled before any handler
+// sees it (its client gets CANCELLED, which it cannot tell from its own cancellation).
+void shutDown(grpc::Server& server, double drainSeconds, double graceSeconds) {
   server.GetHealthCheckService()->SetServingStatus(false);
+  std::this_thread::sleep_for(std::chrono::duration<double>(drainSeconds));
   auto grace = std::chrono::duration_cast<std::chrono::milliseconds>(
       std::chrono::duration<double>(graceSeconds));
   server.Shutdown(std::chrono::system_clock::now() + grace);
@@ -337,7 +341,7 @@ int runServer(const ServerConfig& config) {
   spdlog::info("signal {} received: shutting down", signal);
   storeHealth.reset();  // no probe may report SERVING while the server drains
   if (frontDoor) frontDoor->stop();  // before the services it calls go
-  shutDown(*server, config.shutdownGraceSeconds);
+  shutDown(*server, config.drainDelaySeconds, config.shutdownGraceSeconds);
   if (metricsServer) metricsServer->stop();
   spdlog::info("stopped");
   return 0;

@@ -169,6 +169,11 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->transform(CLI::AsSizeValue(false))
               ->capture_default_str(),
           "TESSERA_PATCH_CACHE_BYTES");
+  withEnv(app.add_option("--drain-delay", c.drainDelaySeconds,
+                         "Seconds a stopping server reports NOT_SERVING but still takes calls, so that "
+                         "health-checking clients and load balancers move away first")
+              ->capture_default_str(),
+          "TESSERA_DRAIN_DELAY");
   withEnv(app.add_option("--shutdown-grace", c.shutdownGraceSeconds,
                          "Seconds running calls get to finish on SIGTERM")
               ->capture_default_str(),
@@ -197,6 +202,9 @@ void finalizeServerConfig(ServerConfig& c) {
   requirePositive(c.maxConcurrentJobs, "--max-concurrent-jobs");
   requirePositive(c.maxOpenStreams, "--max-open-streams");
   if (!(c.storeTimeoutSeconds > 0)) throw std::invalid_argument("--store-timeout must be positive");
+  if (!(c.drainDelaySeconds >= 0 && c.drainDelaySeconds <= 600)) {
+    throw std::invalid_argument("--drain-delay must be between 0 and 600 seconds");
+  }
   if (!(c.streamIdleSeconds > 0) || !(c.sessionIdleSeconds > 0)) {
     throw std::invalid_argument("--stream-idle-timeout and --session-idle-timeout must be positive");
   }

@@ -38,6 +38,7 @@ struct ServerConfig {
   int64_t jobMemoryBytes = 0;  // derived by finalizeServerConfig
   int maxConcurrentJobs = 0;  // 0: the number of hardware threads
   int maxQueuedJobs = -1;     // negative: min(32 x maxConcurrentJobs, maxOpenStreams)
+  double drainDelaySeconds = 1.0;  // NOT_SERVING before new calls are refused (shutDown)
   double shutdownGraceSeconds = 5.0;
   int maxOpenStreams = 256;              // streaming calls open at once (server/calls/stream_watch.h)
   double streamIdleSeconds = 30.0;       // a stream's client may take this long to send or read

@@ -37,8 +37,11 @@ function podChecks(deployment, overlay) {
   check(env.TESSERA_STORE?.valueFrom?.secretKeyRef, `${overlay}: the store's DSN is not from a Secret`);
   check(env.TESSERA_TOKEN_FILE && pod.volumes.some((v) => v.secret?.secretName === 'tessera-token'),
         `${overlay}: the token is not from a Secret`);
-  check(Number(env.TESSERA_SHUTDOWN_GRACE?.value) < (pod.terminationGracePeriodSeconds ?? 30),
-        `${overlay}: the server's grace must end before Kubernetes kills the pod`);
+  const drain = Number(env.TESSERA_DRAIN_DELAY?.value ?? 1), grace = Number(env.TESSERA_SHUTDOWN_GRACE?.value ?? 5);
+  check(drain >= (server.readinessProbe?.periodSeconds ?? 10),
+        `${overlay}: the drain delay must outlast one readiness period, so the pod leaves the Services first`);
+  check(drain + grace < (pod.terminationGracePeriodSeconds ?? 30),
+        `${overlay}: the server's drain and grace must end before Kubernetes kills the pod`);
   const gpus = server.resources?.limits?.['nvidia.com/gpu'];
   if (overlay.endsWith('gpu')) check(Number(gpus) === 1, `${overlay}: expects one nvidia.com/gpu per pod, got ${gpus}`);
   else check(gpus === undefined, `${overlay}: a CPU pod asks for a GPU`);

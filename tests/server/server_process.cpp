@@ -104,6 +104,10 @@ std::unique_ptr<ServerProcess> ServerProcess::start(const std::filesystem::path&
   if (std::find(flags.begin(), flags.end(), "--listen") == flags.end()) {
     argv.insert(argv.end(), {"--listen", "127.0.0.1:0"});
   }
+  // Stopping fast keeps the suite fast; the tests of draining give their own delay.
+  if (std::find(flags.begin(), flags.end(), "--drain-delay") == flags.end()) {
+    argv.insert(argv.end(), {"--drain-delay", "0"});
+  }
   argv.insert(argv.end(), flags.begin(), flags.end());
   auto tlsCert = std::find(flags.begin(), flags.end(), "--tls-cert");
   if (tlsCert != flags.end() && std::next(tlsCert) != flags.end()) {

@@ -17,7 +17,7 @@ namespace tessera::test {
 class ServerProcess {
  public:
   // Starts the server with the given flags (plus --metrics-listen, --ready-file and, unless the
-  // flags give one, --listen chosen here) in workDir and waits until it has written its ready file and, unless
+  // flags give them, --listen chosen here and --drain-delay 0) in workDir and waits until it has written its ready file and, unless
   // awaitServing is false, until its health service says SERVING. Fails the current test
   // (fatally) if it does not start, printing the server's log.
   static std::unique_ptr<ServerProcess> start(const std::filesystem::path& workDir,
