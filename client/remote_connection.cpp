@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "client/commands.h"
-#include "client/service_config.h"
+#include "tessera/service_config.h"
 #include "tessera/status_names.h"
 
 namespace tessera::cli {
@@ -70,7 +70,7 @@ std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint,
     credentials = grpc::InsecureChannelCredentials();
   }
   grpc::ChannelArguments withPolicy = arguments;
-  withPolicy.SetServiceConfigJSON(kClientServiceConfig);
+  withPolicy.SetServiceConfigJSON(tessera::kClientServiceConfig);
   return grpc::CreateCustomChannel(endpoint.server, credentials, withPolicy);
 }
 

@@ -30,7 +30,8 @@ void addEndpointOptions(CLI::App& app, RemoteEndpoint& endpoint);
 // registered elsewhere, such as the local `tessellate` handing a meshes/ name to the remote one.
 RemoteEndpoint endpointFromApp(const CLI::App& root);
 
-// With the service config of client/service_config.h (round_robin, retries of UNAVAILABLE).
+// With the API's client service config (proto/tessera/v1/service_config.json: round_robin over
+// healthy servers, retries of UNAVAILABLE).
 std::shared_ptr<grpc::Channel> makeChannel(const RemoteEndpoint& endpoint);
 // The same with channel arguments (e.g. a local subchannel pool, so that the channel gets a
 // connection of its own instead of sharing one with every other channel to the same address).

@@ -26,6 +26,7 @@ PROTOS = [
     "grpc/health/v1/health.proto",
 ]
 PACKAGE = "tessera_client._proto"
+SERVICE_CONFIG = "tessera/v1/service_config.json"
 # `from tessera.v1 import mesh_pb2 as ...` and `from grpc.health.v1 import ...` in generated code.
 IMPORT = re.compile(r"^from (tessera\.v1|grpc\.health\.v1) import ", re.MULTILINE)
 
@@ -49,6 +50,8 @@ def generate_stubs(out_dir: Path) -> None:
         path.write_text(IMPORT.sub(lambda m: f"from {PACKAGE}.{m.group(1)} import ", text))
     for directory in [target, *[d for d in target.rglob("*") if d.is_dir()]]:
         (directory / "__init__.py").touch()
+    # The API's client service config (round_robin over healthy servers, retries of UNAVAILABLE).
+    shutil.copyfile(PROTO_ROOT / SERVICE_CONFIG, target / "service_config.json")
 
 
 class BuildWithStubs(build_py):

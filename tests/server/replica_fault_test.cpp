@@ -1,5 +1,5 @@
 // Replicas that survive each other: three tessera-server processes on one PostgreSQL database
-// behind one client channel with the CLI's service config (client/service_config.h: round_robin,
+// behind one client channel with the CLI's service config (proto/tessera/v1/service_config.json: round_robin,
 // transparent retries of UNAVAILABLE). Under a steady mix of uploads, reads and tessellations,
 // one server gets SIGTERM (graceful drain) and another SIGKILL. The client may retry a call that
 // ended UNAVAILABLE (its server vanished mid-call); every other outcome is a failure, and every
@@ -16,7 +16,7 @@
 #include <sstream>
 #include <thread>
 
-#include "client/service_config.h"
+#include "tessera/service_config.h"
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
 
@@ -43,7 +43,7 @@ std::shared_ptr<grpc::Channel> balancedChannel(const std::vector<const ServerPro
   std::string target = "ipv4:";
   for (const ServerProcess* s : servers) target += (target.size() > 5 ? "," : "") + s->address();
   grpc::ChannelArguments arguments;
-  arguments.SetServiceConfigJSON(cli::kClientServiceConfig);
+  arguments.SetServiceConfigJSON(kClientServiceConfig);
   return grpc::CreateCustomChannel(target, grpc::InsecureChannelCredentials(), arguments);
 }
 

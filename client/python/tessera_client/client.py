@@ -23,6 +23,7 @@ CHUNK_BYTES = 64 * 1024
 # Array values per upload message: 16K floats or ints is 64 KiB of payload.
 CHUNK_VALUES = 16 * 1024
 PUSHBACK_KEY = "grpc-retry-pushback-ms"
+_SERVICE_CONFIG = (Path(__file__).resolve().parent / "_proto" / "service_config.json").read_text()
 
 ProgressCallback = Callable[[str, float], None]
 
@@ -145,9 +146,15 @@ class TesseraClient:
 
     def __init__(self, target: str, token: Optional[str] = None, root_certificates: Optional[bytes] = None,
                  max_retries: int = 8, options: Sequence[Tuple[str, object]] = ()):
-        """`target` is HOST:PORT; `token` the server's bearer token, if it asks for one;
-        `root_certificates` (PEM) makes the channel TLS; `max_retries` bounds how many times a call
-        refused as busy is sent again (within its deadline)."""
+        """`target` is HOST:PORT, or any gRPC target naming several servers (dns:///NAME:PORT,
+        ipv4:A:P,B:P), balanced round-robin over those that pass health checks, with calls refused
+        as UNAVAILABLE retried transparently (the API's service config,
+        proto/tessera/v1/service_config.json; an `options` entry "grpc.service_config" replaces it);
+        `token` the server's bearer token, if it asks for one; `root_certificates` (PEM) makes the
+        channel TLS; `max_retries` bounds how many times a call refused as busy is sent again
+        (within its deadline)."""
+        if not any(name == "grpc.service_config" for name, _ in options):
+            options = [*options, ("grpc.service_config", _SERVICE_CONFIG)]
         if root_certificates is not None:
             self._channel = grpc.secure_channel(target, grpc.ssl_channel_credentials(root_certificates), options)
         else:
