@@ -8,7 +8,6 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
-#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -55,15 +54,9 @@ std::unique_ptr<grpc::ClientContext> contextFor(const httplib::Request& request)
     context->AddMetadata("authorization", token);
   }
   if (std::string id = headerForMetadata(request, "X-Request-Id"); !id.empty()) context->AddMetadata("x-request-id", id);
-  if (request.has_param("timeout_ms")) {
-    const std::string text = request.get_param_value("timeout_ms");
-    int64_t ms = 0;
-    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), ms);
-    if (error != std::errc() || end != text.data() + text.size() || ms <= 0) {
-      throwInvalidArgument(fmt::format("query parameter timeout_ms: expects a positive number of milliseconds, got {}",
-                                       quoteForMessage(text)));
-    }
-    context->set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(ms));
+  if (const std::optional<int64_t> ms = queryNumber<int64_t>(request.params, "timeout_ms")) {
+    if (*ms <= 0) throwInvalidArgument(fmt::format("query parameter timeout_ms: must be positive (got {})", *ms));
+    context->set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(*ms));
   }
   return context;
 }
@@ -118,15 +111,7 @@ httplib::Server::Handler guarded(Route route) {
 void listMeshes(const HttpFrontDoor::Services& s, const httplib::Request& request, httplib::Response& response) {
   checkQueryParameters(request.params, {"page_size", "page_token"});
   v1::ListMeshesRequest list;
-  if (request.has_param("page_size")) {
-    const std::string text = request.get_param_value("page_size");
-    int32_t size = 0;
-    auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), size);
-    if (error != std::errc() || end != text.data() + text.size()) {
-      throwInvalidArgument(fmt::format("query parameter page_size: expects a number, got {}", quoteForMessage(text)));
-    }
-    list.set_page_size(size);
-  }
+  if (const std::optional<int32_t> size = queryNumber<int32_t>(request.params, "page_size")) list.set_page_size(*size);
   list.set_page_token(request.get_param_value("page_token"));
   auto context = contextFor(request);
   v1::ListMeshesResponse page;

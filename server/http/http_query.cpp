@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <optional>
 
 #include "core/camera_text.h"
@@ -13,30 +12,12 @@ namespace {
 
 namespace v1 = tessera::v1;
 
-std::optional<std::string> parameter(const QueryParameters& query, const char* name) {
-  auto found = query.find(name);
-  if (found == query.end()) return std::nullopt;
-  return found->second;
-}
-
-template <typename Number>
-std::optional<Number> number(const QueryParameters& query, const char* name) {
-  const std::optional<std::string> text = parameter(query, name);
-  if (!text) return std::nullopt;
-  Number value{};
-  const char* end = text->data() + text->size();
-  auto [stop, error] = std::from_chars(text->data(), end, value);
-  if (error != std::errc() || stop != end) {
-    throwInvalidArgument(fmt::format("query parameter {}: expects a number, got {}", name, quoteForMessage(*text)));
-  }
-  return value;
-}
-
 void setVector(const QueryParameters& query, const char* name, const char* fallback, v1::Vec3& out) {
-  const std::optional<std::string> text = parameter(query, name);
+  const std::optional<std::string> text = queryParameter(query, name);
   if (!text && !fallback) throwInvalidArgument(fmt::format("query parameter {}: is required (X,Y,Z)", name));
-  const std::optional<TypedVector> v = parseXyz(text ? *text : fallback);
-  if (!v) throwInvalidArgument(fmt::format("query parameter {}: expects X,Y,Z, got {}", name, quoteForMessage(*text)));
+  const std::string typed = text.value_or(fallback);
+  const std::optional<TypedVector> v = parseXyz(typed);
+  if (!v) throwInvalidArgument(fmt::format("query parameter {}: expects X,Y,Z, got {}", name, quoteForMessage(typed)));
   out.set_x(v->x), out.set_y(v->y), out.set_z(v->z);
 }
 
@@ -46,8 +27,8 @@ v1::Camera cameraFromQuery(const QueryParameters& query) {
   setVector(query, "eye", nullptr, *camera.mutable_eye());
   setVector(query, "target", nullptr, *camera.mutable_target());
   setVector(query, "up", "0,1,0", *camera.mutable_up());
-  camera.set_fov_y_deg(number<double>(query, "fov").value_or(45.0));
-  const std::string size = parameter(query, "size").value_or("1920x1080");
+  camera.set_fov_y_deg(queryNumber<double>(query, "fov").value_or(45.0));
+  const std::string size = queryParameter(query, "size").value_or("1920x1080");
   const std::optional<TypedSize> parsed = parseWxH(size);
   if (!parsed) throwInvalidArgument(fmt::format("query parameter size: expects WIDTHxHEIGHT, got {}", quoteForMessage(size)));
   camera.set_width(parsed->width);
@@ -56,7 +37,7 @@ v1::Camera cameraFromQuery(const QueryParameters& query) {
 }
 
 v1::GlbEncoding encodingFromQuery(const QueryParameters& query) {
-  const std::string name = parameter(query, "encoding").value_or("float");
+  const std::string name = queryParameter(query, "encoding").value_or("float");
   if (name == "float") return v1::GLB_ENCODING_FLOAT;
   if (name == "quantized") return v1::GLB_ENCODING_QUANTIZED;
   if (name == "meshopt") return v1::GLB_ENCODING_MESHOPT;
@@ -65,7 +46,7 @@ v1::GlbEncoding encodingFromQuery(const QueryParameters& query) {
 }
 
 std::optional<bool> flag(const QueryParameters& query, const char* name) {
-  const std::optional<std::string> text = parameter(query, name);
+  const std::optional<std::string> text = queryParameter(query, name);
   if (!text) return std::nullopt;
   if (*text == "true" || *text == "1") return true;
   if (*text == "false" || *text == "0") return false;
@@ -73,6 +54,16 @@ std::optional<bool> flag(const QueryParameters& query, const char* name) {
 }
 
 }  // namespace
+
+std::optional<std::string> queryParameter(const QueryParameters& query, const char* name) {
+  auto found = query.find(name);
+  if (found == query.end()) return std::nullopt;
+  return found->second;
+}
+
+void throwNotANumber(const char* name, const std::string& text) {
+  throwInvalidArgument(fmt::format("query parameter {}: expects a number, got {}", name, quoteForMessage(text)));
+}
 
 void checkQueryParameters(const QueryParameters& query, std::initializer_list<const char*> known) {
   for (auto it = query.begin(); it != query.end(); it = query.upper_bound(it->first)) {
@@ -101,11 +92,11 @@ v1::TessellateRequest tessellateRequestFromQuery(const std::string& meshId, cons
   if (tolerances > 1) {
     throwInvalidArgument("query: give one of relative, absolute or a camera (eye and target), not several");
   }
-  if (auto relative = number<double>(query, "relative")) request.set_relative(*relative);
-  if (auto absolute = number<double>(query, "absolute")) request.set_absolute(*absolute);
+  if (auto relative = queryNumber<double>(query, "relative")) request.set_relative(*relative);
+  if (auto absolute = queryNumber<double>(query, "absolute")) request.set_absolute(*absolute);
   if (query.count("eye") || query.count("target")) {
     *request.mutable_pixel()->mutable_camera() = cameraFromQuery(query);
-    if (auto pixels = number<double>(query, "pixel_accuracy")) request.mutable_pixel()->set_pixel_accuracy(*pixels);
+    if (auto pixels = queryNumber<double>(query, "pixel_accuracy")) request.mutable_pixel()->set_pixel_accuracy(*pixels);
   } else {
     for (const char* cameraOnly : {"up", "fov", "size", "pixel_accuracy"}) {
       if (query.count(cameraOnly)) {
@@ -113,9 +104,9 @@ v1::TessellateRequest tessellateRequestFromQuery(const std::string& meshId, cons
       }
     }
   }
-  if (auto level = number<int32_t>(query, "uniform_level")) request.set_uniform_level(*level);
-  if (auto eta = number<double>(query, "eta")) request.set_eta(*eta);
-  if (auto max = number<int64_t>(query, "max_triangles")) request.set_max_triangles(*max);
+  if (auto level = queryNumber<int32_t>(query, "uniform_level")) request.set_uniform_level(*level);
+  if (auto eta = queryNumber<double>(query, "eta")) request.set_eta(*eta);
+  if (auto max = queryNumber<int64_t>(query, "max_triangles")) request.set_max_triangles(*max);
   request.set_encoding(encodingFromQuery(query));
   return request;
 }
@@ -132,13 +123,13 @@ v1::RenderRequest renderRequestFromQuery(const std::string& meshId, const QueryP
   if (accuracies > 1) {
     throwInvalidArgument("query: give one of pixel_accuracy, absolute_tolerance or uniform_level, not several");
   }
-  if (auto pixels = number<double>(query, "pixel_accuracy")) settings.set_pixel_accuracy(*pixels);
-  if (auto absolute = number<double>(query, "absolute_tolerance")) settings.set_absolute_tolerance(*absolute);
-  if (auto level = number<int32_t>(query, "uniform_level")) settings.set_uniform_level(*level);
-  if (auto eta = number<double>(query, "eta")) settings.set_eta(*eta);
-  if (auto max = number<int64_t>(query, "max_triangles")) settings.set_max_triangles(*max);
+  if (auto pixels = queryNumber<double>(query, "pixel_accuracy")) settings.set_pixel_accuracy(*pixels);
+  if (auto absolute = queryNumber<double>(query, "absolute_tolerance")) settings.set_absolute_tolerance(*absolute);
+  if (auto level = queryNumber<int32_t>(query, "uniform_level")) settings.set_uniform_level(*level);
+  if (auto eta = queryNumber<double>(query, "eta")) settings.set_eta(*eta);
+  if (auto max = queryNumber<int64_t>(query, "max_triangles")) settings.set_max_triangles(*max);
   if (auto crackFilling = flag(query, "crack_filling")) settings.set_crack_filling(*crackFilling);
-  if (auto quality = number<int32_t>(query, "jpeg_quality")) settings.set_jpeg_quality(*quality);
+  if (auto quality = queryNumber<int32_t>(query, "jpeg_quality")) settings.set_jpeg_quality(*quality);
   settings.set_format(format);
   return request;
 }

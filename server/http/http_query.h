@@ -13,7 +13,9 @@
 // Every endpoint also takes timeout_ms, the call's deadline (read by the front door itself).
 #pragma once
 
+#include <charconv>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "tessera/v1/render.pb.h"
@@ -28,6 +30,23 @@ tessera::v1::TessellateRequest tessellateRequestFromQuery(const std::string& mes
 
 tessera::v1::RenderRequest renderRequestFromQuery(const std::string& meshId, const QueryParameters& query,
                                                   tessera::v1::ImageFormat format);
+
+// The parameter's value, if given.
+std::optional<std::string> queryParameter(const QueryParameters& query, const char* name);
+
+[[noreturn]] void throwNotANumber(const char* name, const std::string& text);
+
+// The parameter as a number, if given; INVALID_ARGUMENT naming it when it is not one.
+template <typename Number>
+std::optional<Number> queryNumber(const QueryParameters& query, const char* name) {
+  const std::optional<std::string> text = queryParameter(query, name);
+  if (!text) return std::nullopt;
+  Number value{};
+  const char* end = text->data() + text->size();
+  auto [stop, error] = std::from_chars(text->data(), end, value);
+  if (error != std::errc() || stop != end) throwNotANumber(name, *text);
+  return value;
+}
 
 // Refuses a parameter outside `known` (plus timeout_ms) or given twice.
 void checkQueryParameters(const QueryParameters& query, std::initializer_list<const char*> known);
