@@ -10,7 +10,7 @@
 #include <string>
 
 #include "server/meshes/mesh_upload.h"
-#include "server/tessellation/tessellate_request.h"
+#include "server/calls/accuracy_limits.h"
 
 namespace tessera::server {
 

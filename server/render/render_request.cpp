@@ -22,6 +22,7 @@ Accuracy checkAccuracy(const v1::RenderSettings& s, std::string_view field, cons
   switch (s.accuracy_case()) {
     case v1::RenderSettings::ACCURACY_NOT_SET:
       accuracy = Accuracy::pixel(kDefaultPixelAccuracy);
+      where = fmt::format("{}.pixel_accuracy", field);
       break;
     case v1::RenderSettings::kPixelAccuracy:
       accuracy = Accuracy::pixel(s.pixel_accuracy());
@@ -37,16 +38,7 @@ Accuracy checkAccuracy(const v1::RenderSettings& s, std::string_view field, cons
       break;
   }
   checkWithCore([&] { validateAccuracy(accuracy, where); });
-  if (accuracy.uniform() && accuracy.level > limits.maxUniformLevel) {
-    throwInvalidArgument(fmt::format("{}: {} is above the server's max_uniform_level of {}", where,
-                                     accuracy.level, limits.maxUniformLevel));
-  }
-  if (accuracy.pixelAccurate() && accuracy.pixels < limits.minPixelAccuracy) {
-    throwResourceExhausted(
-        fmt::format("{}.pixel_accuracy: {} is finer than the server's "
-                    "min_pixel_accuracy of {}",
-                    field, accuracy.pixels, limits.minPixelAccuracy));
-  }
+  checkAccuracyLimits(accuracy, where, limits);
   return accuracy;
 }
 
@@ -118,25 +110,7 @@ CheckedRenderSettings checkRenderSettings(const v1::RenderSettings& s, std::stri
 void checkSettingsForMesh(const FrameSettings& settings, std::string_view field,
                           const MeshMetadata& metadata, const TessellationLimits& limits) {
   if (settings.accuracy.mode != Accuracy::Mode::kAbsolute) return;
-  const double diagonal = metadata.boundsDiagonal();
-  if (!(diagonal > 0)) {
-    throwStatus(
-        grpc::StatusCode::FAILED_PRECONDITION,
-        fmt::format("mesh {} has an empty bounding box, so a tolerance has no scale", metadata.id));
-  }
-  if (settings.accuracy.tolerance > diagonal) {
-    throwInvalidArgument(
-        fmt::format("{}.absolute_tolerance: {} is larger than the mesh's "
-                    "bounding-box diagonal ({})",
-                    field, settings.accuracy.tolerance, diagonal));
-  }
-  if (settings.accuracy.tolerance < limits.minRelativeTolerance * diagonal) {
-    throwResourceExhausted(fmt::format(
-        "{}.absolute_tolerance: {} ({} of the bounding-box "
-        "diagonal) is finer than the server's "
-        "min_relative_tolerance of {}",
-        field, settings.accuracy.tolerance, settings.accuracy.tolerance / diagonal, limits.minRelativeTolerance));
-  }
+  toleranceOnMesh(settings.accuracy, fmt::format("{}.absolute_tolerance", field), metadata, limits);
 }
 
 Camera checkRenderCamera(const v1::Camera& c, std::string_view field,

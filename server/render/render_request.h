@@ -9,7 +9,7 @@
 #include "server/render/frame_encoder.h"
 #include "server/meshes/mesh_metadata.h"
 #include "server/render/render_backend.h"
-#include "server/tessellation/tessellate_request.h"
+#include "server/calls/accuracy_limits.h"
 #include "tessera/v1/render.pb.h"
 
 namespace tessera::server {

@@ -16,7 +16,7 @@
 #include "server/render/render_backend.h"
 #include "server/calls/status_error.h"
 #include "server/calls/stream_watch.h"
-#include "server/tessellation/tessellate_request.h"
+#include "server/calls/accuracy_limits.h"
 #include "tessera/v1/render.grpc.pb.h"
 
 namespace tessera::server {

@@ -27,11 +27,7 @@ double checkPixelAccuracy(const v1::PixelTolerance& pixel, const Camera& camera,
     validatePositiveFinite(accuracy, "pixel.pixel_accuracy");
     validatePixelsForViewport(accuracy, camera.width, camera.height, "pixel.pixel_accuracy");
   });
-  if (accuracy < limits.minPixelAccuracy) {
-    throwResourceExhausted(fmt::format("pixel.pixel_accuracy: {} is finer than the server's "
-                                       "min_pixel_accuracy of {}",
-                                       accuracy, limits.minPixelAccuracy));
-  }
+  checkAccuracyLimits(Accuracy::pixel(accuracy), "pixel.pixel_accuracy", limits);
   return accuracy;
 }
 
@@ -55,33 +51,6 @@ void checkTolerance(const v1::TessellateRequest& request, const TessellationLimi
   }
 }
 
-// ε in model units for an absolute or relative tolerance: the server's limits are checked
-// against the mesh's diagonal here, so the engine gets the value they were checked on.
-double checkedEpsilon(const v1::TessellateRequest& request, const MeshMetadata& metadata,
-                      const TessellationLimits& limits) {
-  const double diagonal = metadata.boundsDiagonal();
-  if (!(diagonal > 0)) {
-    throwStatus(grpc::StatusCode::FAILED_PRECONDITION,
-                fmt::format("mesh {} has an empty bounding box, so a tolerance has no scale",
-                            metadata.id));
-  }
-  const bool absolute = request.tolerance_case() == v1::TessellateRequest::kAbsolute;
-  const double epsilon = absolute ? request.absolute() : request.relative() * diagonal;
-  const char* field = absolute ? "absolute" : "relative";
-  if (absolute && epsilon > diagonal) {
-    throwInvalidArgument(fmt::format("absolute: {} is larger than the mesh's bounding-box diagonal "
-                                     "({})",
-                                     epsilon, diagonal));
-  }
-  if (epsilon < limits.minRelativeTolerance * diagonal) {
-    throwResourceExhausted(fmt::format("{}: a tolerance of {} ({} of the bounding-box diagonal) is "
-                                       "finer than the server's min_relative_tolerance of {}",
-                                       field, epsilon, epsilon / diagonal,
-                                       limits.minRelativeTolerance));
-  }
-  return epsilon;
-}
-
 }  // namespace
 
 void checkTessellateRequest(const v1::TessellateRequest& request, const TessellationLimits& limits) {
@@ -94,10 +63,7 @@ void checkTessellateRequest(const v1::TessellateRequest& request, const Tessella
   }
   if (request.has_uniform_level()) {
     checkWithCore([&] { validateUniformLevel(request.uniform_level(), "uniform_level"); });
-    if (request.uniform_level() > limits.maxUniformLevel) {
-      throwInvalidArgument(fmt::format("uniform_level: {} is above the server's max_uniform_level of {}",
-                                       request.uniform_level(), limits.maxUniformLevel));
-    }
+    checkAccuracyLimits(Accuracy::uniformLevel(request.uniform_level()), "uniform_level", limits);
   }
   if (!v1::GlbEncoding_IsValid(request.encoding())) {
     throwInvalidArgument(fmt::format("encoding: unknown value {} (GLB_ENCODING_FLOAT, _QUANTIZED or _MESHOPT)",
@@ -129,7 +95,10 @@ TessellationJob planTessellationJob(const v1::TessellateRequest& request,
     job.camera = checkCamera(request.pixel(), limits);
     job.accuracy = Accuracy::pixel(checkPixelAccuracy(request.pixel(), *job.camera, limits));
   } else if (request.tolerance_case() != v1::TessellateRequest::TOLERANCE_NOT_SET) {
-    job.accuracy = Accuracy::absolute(checkedEpsilon(request, metadata, limits));
+    // ε in model units: the server's limits are checked on it, and the engine gets that value.
+    const bool absolute = request.tolerance_case() == v1::TessellateRequest::kAbsolute;
+    const Accuracy asked = absolute ? Accuracy::absolute(request.absolute()) : Accuracy::relative(request.relative());
+    job.accuracy = Accuracy::absolute(toleranceOnMesh(asked, absolute ? "absolute" : "relative", metadata, limits));
   }
   // A level decides alone, whatever tolerance came with it (checked all the same).
   if (request.has_uniform_level()) {

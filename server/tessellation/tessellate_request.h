@@ -6,19 +6,12 @@
 
 #include <cstdint>
 
+#include "server/calls/accuracy_limits.h"
 #include "server/meshes/mesh_metadata.h"
 #include "server/tessellation/tessellation_engine.h"
 #include "tessera/v1/tessellation.pb.h"
 
 namespace tessera::server {
-
-struct TessellationLimits {
-  double minRelativeTolerance = 1e-6;
-  double minPixelAccuracy = 0.05;
-  int64_t maxTriangles = 50'000'000;
-  int maxUniformLevel = 64;
-  int64_t maxImagePixels = 16384LL * 16384LL;
-};
 
 // What can be checked without the mesh; run before looking the mesh up.
 void checkTessellateRequest(const tessera::v1::TessellateRequest& request,

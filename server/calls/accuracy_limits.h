@@ -1,0 +1,33 @@
+// The server's budgets on a request's accuracy, shared by Tessellate, Render and RenderSession:
+// core checks that an accuracy makes sense (core/accuracy.h); these check what this server
+// allows. `field` names the request's field in messages ("relative", "settings.pixel_accuracy").
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include "core/accuracy.h"
+#include "server/meshes/mesh_metadata.h"
+
+namespace tessera::server {
+
+struct TessellationLimits {
+  double minRelativeTolerance = 1e-6;
+  double minPixelAccuracy = 0.05;
+  int64_t maxTriangles = 50'000'000;
+  int maxUniformLevel = 64;
+  int64_t maxImagePixels = 16384LL * 16384LL;
+};
+
+// INVALID_ARGUMENT for a uniform level above max_uniform_level; RESOURCE_EXHAUSTED for pixels
+// finer than min_pixel_accuracy. Tolerances wait for the mesh (toleranceOnMesh).
+void checkAccuracyLimits(const Accuracy& accuracy, std::string_view field, const TessellationLimits& limits);
+
+// ε in model units for an absolute or relative tolerance on the mesh `metadata` describes:
+// FAILED_PRECONDITION when its bounding box is empty (a tolerance has no scale), INVALID_ARGUMENT
+// for an absolute one larger than its diagonal, RESOURCE_EXHAUSTED for one finer than
+// min_relative_tolerance of it.
+double toleranceOnMesh(const Accuracy& accuracy, std::string_view field, const MeshMetadata& metadata,
+                       const TessellationLimits& limits);
+
+}  // namespace tessera::server
