@@ -22,8 +22,7 @@ TESSERA_HD void bsplineBasis(T t, T w[4], T dw[4]) {
   dw[3] = t * t / T(2);
 }
 
-// The Bernstein basis is core/cubic_bernstein.h's, which the shaders share.
-TESSERA_HD void bernsteinBasis(double t, double w[4], double dw[4]) { cubicBernstein(t, w, dw); }
+// The Bernstein basis is cubicBernstein (core/cubic_bernstein.h), which the shaders share.
 
 struct PatchSample {
   Vec3d position, dPds, dPdt;
@@ -61,7 +60,7 @@ TESSERA_HD PatchSample evaluateBspline(const Point cv[16], double s, double t) {
 
 template <typename Point, typename Acc = Vec3d>
 TESSERA_HD PatchSample evaluateBezier(const Point cv[16], double s, double t) {
-  return evaluateTensorPatch<Acc>(cv, s, t, [](double x, double* w, double* dw) { bernsteinBasis(x, w, dw); });
+  return evaluateTensorPatch<Acc>(cv, s, t, [](double x, double* w, double* dw) { cubicBernstein(x, w, dw); });
 }
 
 // The scalar type of a point type: Vec3T<T> -> T, plain floating point -> itself.

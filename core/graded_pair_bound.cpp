@@ -54,7 +54,7 @@ Samples sampleNet(const BezierNet& net) {
   std::array<std::array<double, 4>, kSamples + 1> w;
   for (int m = 0; m <= kSamples; ++m) {
     double dw[4];
-    bernsteinBasis(double(m) / kSamples, w[m].data(), dw);
+    cubicBernstein(double(m) / kSamples, w[m].data(), dw);
   }
   std::array<Vec3d, 4 * (kSamples + 1)> rows;  // rows[row * (kSamples + 1) + m]
   for (int row = 0; row < 4; ++row) {

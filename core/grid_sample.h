@@ -23,7 +23,7 @@ TESSERA_HD void gridWeights(NetBasis basis, int i, int level, float w[4]) {
   if (basis == NetBasis::kBSpline) {
     bsplineBasis(t, value, unused);
   } else {
-    bernsteinBasis(t, value, unused);
+    cubicBernstein(t, value, unused);
   }
   for (int k = 0; k < 4; ++k) w[k] = float(value[k]);
 }
