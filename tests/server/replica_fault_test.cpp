@@ -51,17 +51,16 @@ std::shared_ptr<grpc::Channel> balancedChannel(const std::vector<const ServerPro
 template <typename Call>
 void attempt(Tally& tally, const char* method, Call call) {
   const auto start = Clock::now();
-  grpc::Status status;
+  grpc::Status status = call();
   int retries = 0;
-  for (int i = 0; i < kAppAttempts; ++i) {
-    status = call();
-    if (status.error_code() != grpc::StatusCode::UNAVAILABLE) break;
-    ++retries;
+  while (status.error_code() == grpc::StatusCode::UNAVAILABLE && retries + 1 < kAppAttempts) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    status = call();
+    ++retries;
   }
   std::lock_guard lock(tally.mutex);
   ++tally.calls;
-  tally.appRetries += std::min(retries, kAppAttempts - 1);
+  tally.appRetries += retries;
   tally.latencyMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
   if (!status.ok()) tally.failures.push_back(std::string(method) + ": " + std::to_string(status.error_code()) + " " + status.error_message());
 }
