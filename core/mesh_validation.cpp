@@ -55,9 +55,9 @@ void checkFaceSizes(const ControlMesh& mesh, const MeshLimits& limits) {
   }
 }
 
-// A vertex stamped with the face that last used it finds repeats within a face in one pass.
+// A face may repeat a vertex, even list one vertex only: OpenSubdiv makes its degenerate edges
+// non-manifold and evaluates it (docs/NONMANIFOLD.md), so only the indices are checked.
 void checkFaceVertices(const ControlMesh& mesh) {
-  std::vector<int> lastFace(mesh.positions.size(), -1);
   size_t corner = 0;
   for (int face = 0; face < mesh.faceCount(); ++face) {
     for (int i = 0; i < mesh.faceSizes[face]; ++i, ++corner) {
@@ -67,11 +67,6 @@ void checkFaceVertices(const ControlMesh& mesh) {
                      std::to_string(vertex) + ", but the mesh has " +
                      std::to_string(mesh.vertexCount()) + " vertices");
       }
-      if (lastFace[vertex] == face) {
-        throwInvalid("face " + std::to_string(face) + " lists vertex " + std::to_string(vertex) +
-                     " more than once");
-      }
-      lastFace[vertex] = face;
     }
   }
 }

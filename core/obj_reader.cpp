@@ -73,14 +73,12 @@ class ObjParser {
   void placeFarMeshesAtTheirCentre();
   void parseFace(LineTokens& tokens, const SourceLine& at);
   int faceVertexIndex(std::string_view token, const SourceLine& at);
-  void requireDistinctVertices(const SourceLine& at);
 
   const std::string& source_;
   const MeshLimits& limits_;
   ControlMesh mesh_;
   obj_detail::TagReader tags_;
   std::vector<int> face_;    // the face being read, 0-based
-  std::vector<int> sorted_;  // scratch for the repeated-vertex check
   // Faces may name vertices defined further down, so absolute indices are range-checked at the
   // end; the line of the largest one is kept for the message.
   int largestIndex_ = -1;
@@ -212,7 +210,6 @@ void ObjParser::parseFace(LineTokens& tokens, const SourceLine& at) {
     failInvalid(at, "face has " + std::to_string(face_.size()) +
                         (face_.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed");
   }
-  requireDistinctVertices(at);
   const bool withUvs = cornerUvs_[cornersBefore] >= 0;
   for (size_t c = cornersBefore; c < cornerUvs_.size(); ++c) {
     if ((cornerUvs_[c] >= 0) != withUvs) failInvalid(at, "face gives texture coordinates for some corners but not all");
@@ -303,16 +300,6 @@ void ObjParser::keepUvsOfEveryCornerOrNone() {
                                                          " texture vertices");
   }
   mesh_.uvIndices = std::move(cornerUvs_);
-}
-
-void ObjParser::requireDistinctVertices(const SourceLine& at) {
-  sorted_.assign(face_.begin(), face_.end());
-  std::sort(sorted_.begin(), sorted_.end());
-  const auto repeated = std::adjacent_find(sorted_.begin(), sorted_.end());
-  if (repeated != sorted_.end()) {
-    failInvalid(at, "face lists vertex " + std::to_string(*repeated + 1) +
-                        " more than once (a face must not repeat a vertex)");
-  }
 }
 
 ControlMesh ObjParser::finish() {

@@ -9,7 +9,7 @@
 // is to blame: kInvalidInput for malformed text, kUnsupported for features Tessera refuses
 // (Chaikin creases, VTX_BOUNDARY_NONE, smooth triangles, hierarchical edits, unknown tags,
 // free-form geometry), kLimitExceeded past `limits`. The returned mesh has passed
-// validateControlMesh(); it may still be non-manifold (see core/manifold_check.h).
+// validateControlMesh(); it may be non-manifold (see core/manifold_sheets.h).
 #pragma once
 
 #include <string>

@@ -17,7 +17,7 @@
 #include "core/limit_uvs.h"
 #include "core/far_topology.h"
 #include "core/ring_extraction.h"
-#include "core/manifold_check.h"
+#include "core/manifold_sheets.h"
 #include "core/patch_set.h"
 #include "core/refinement_budget.h"
 
@@ -133,6 +133,7 @@ class PatchSetBuilder {
   }
 
   const ControlMesh& mesh_;
+  ManifoldSheets sheets_;  // what OpenSubdiv refines: mesh_ itself unless it is non-manifold
   const std::function<void()>& checkpoint_;
   const int64_t maxRefinedVertices_;
   const std::function<void(int64_t)> beforeRefining_;
@@ -233,16 +234,17 @@ void PatchSetBuilder::buildRings() {
 
 PatchSet PatchSetBuilder::build() {
   validateControlMesh(mesh_);
-  requireManifold(mesh_);
+  sheets_ = cutIntoSheets(mesh_);
+  const ControlMesh& sheets = sheets_.sheets;
   checkpointNow();
-  const int isolation = isolationLevelFor(mesh_);
+  const int isolation = isolationLevelFor(sheets);
   if (maxRefinedVertices_ > 0 || beforeRefining_) {
     // Without a limit the estimate is still wanted: one far beyond any machine's memory.
     const int64_t limit = maxRefinedVertices_ > 0 ? maxRefinedVertices_ : int64_t(1) << 50;
-    const int64_t estimate = requireRefinementWithin(mesh_, limit, checkpoint_);
+    const int64_t estimate = requireRefinementWithin(sheets, limit, checkpoint_);
     if (beforeRefining_) beforeRefining_(estimate);
   }
-  refiner_ = createTopologyRefiner(mesh_);
+  refiner_ = createTopologyRefiner(sheets);
   const Far::PatchTableFactory::Options options = patchTableOptions(isolation);
   refineAdaptively(*refiner_, options);
   checkpointNow();
@@ -250,7 +252,7 @@ PatchSet PatchSetBuilder::build() {
   std::unique_ptr<Far::PatchTable> table(Far::PatchTableFactory::Create(*refiner_, options));
   checkpointNow();
 
-  positions_ = refinedPositions(*refiner_, mesh_.positions);
+  positions_ = refinedPositions(*refiner_, sheets.positions);
   levelOffsets_.assign(1, 0);
   for (int l = 0; l < refiner_->GetMaxLevel(); ++l) {
     levelOffsets_.push_back(levelOffsets_.back() + refiner_->GetLevel(l).GetNumVertices());
@@ -291,9 +293,9 @@ PatchSet PatchSetBuilder::build() {
   }
   result_.boundsMin = lo, result_.boundsMax = hi;
   auto surface = std::make_shared<AdaptiveSurface>();
-  surface->tree = buildSurfaceTree(result_, mesh_, checkpoint_);
+  surface->tree = buildSurfaceTree(result_, sheets, checkpoint_);
   checkpointNow();
-  surface->seams = SeamTopology(mesh_);
+  surface->seams = SeamTopology(sheets_.seams);
   surface->rootSeams = RootSeams(surface->tree, surface->seams);
   surface->lines = SeamLines(surface->tree, surface->seams, mesh_.vertexCount());
   result_.adaptive = std::move(surface);

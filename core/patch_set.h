@@ -113,8 +113,9 @@ struct PreprocessingOptions {
 };
 
 // Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).
-// Throws TesseraError for unsupported input (non-manifold topology, features that cannot be
-// reduced to the canonical pieces) and for a refinement over the options' limit.
+// A non-manifold mesh is refined as its manifold sheets (core/manifold_sheets.h). Throws
+// TesseraError for unsupported input (features that cannot be reduced to the canonical pieces)
+// and for a refinement over the options' limit.
 PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options = {});
 
 }  // namespace tessera

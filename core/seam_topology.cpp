@@ -51,7 +51,9 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
         return -1;
       };
       const int before = other(corner(f, k - 1), corner(f, k)), after = other(corner(f, k), corner(f, k + 1));
-      cornerPinched[faceOffsets[f] + k] = before >= 0 && before == after;
+      const bool manifold = edgeFaces[ordered(corner(f, k - 1), corner(f, k))].size() == 2 &&
+                            edgeFaces[ordered(corner(f, k), corner(f, k + 1))].size() == 2;
+      cornerPinched[faceOffsets[f] + k] = manifold && before >= 0 && before == after;
     }
   }
   std::vector<int> parent(faceSizes.size());

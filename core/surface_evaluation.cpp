@@ -1,6 +1,7 @@
 #include "core/surface_evaluation.h"
 
 #include <cmath>
+#include <iterator>
 
 #include "core/bicubic.h"
 #include "core/fas.h"
@@ -33,6 +34,17 @@ BezierNet bsplineToRootBezier(const Vec3d* bspline, const Orientation& orientati
 void pieceParameters(const Orientation& o, double x, double y, double& s, double& t) {
   s = o.su * x + o.sv * y + (o.su + o.sv < 0 ? 1 : 0);
   t = o.tu * x + o.tv * y + (o.tu + o.tv < 0 ? 1 : 0);
+}
+
+// A unit vector across direction d (any, when d vanishes): the cross product with the axis d
+// leans on least.
+Vec3d anyNormalAcross(const Vec3d& d) {
+  const Vec3d axis = std::abs(d.x) <= std::abs(d.y) && std::abs(d.x) <= std::abs(d.z) ? Vec3d(1, 0, 0)
+                     : std::abs(d.y) <= std::abs(d.z)                                 ? Vec3d(0, 1, 0)
+                                                                                      : Vec3d(0, 0, 1);
+  const Vec3d n = cross(d, axis);
+  const double l = length(n);
+  return l > 0 ? n * (1.0 / l) : Vec3d(0, 0, 1);
 }
 
 }  // namespace
@@ -70,7 +82,7 @@ const Vec3d* SurfaceEvaluator::fasNet(uint32_t fasLeaf) {
   return cachedNet_;
 }
 
-SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, double y) {
+SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, double y, size_t nudges) {
   const SurfaceNode& node = tree_.nodes[leaf.node];
   PatchSample p;
   Orientation orientation;
@@ -100,9 +112,15 @@ SurfaceSample SurfaceEvaluator::evaluateLeaf(const NodeSquare& leaf, double x, d
   const Vec3d n = cross(p.dPds, p.dPdt);
   const double l = length(n);
   if (!(l > 0)) {
-    // A degenerate corner (the derivatives vanish): the normal a step inside.
-    const double nx = x + (x < 0.5 ? 1e-6 : -1e-6), ny = y + (y < 0.5 ? 1e-6 : -1e-6);
-    return {p.position, evaluateLeaf(leaf, nx, ny).normal};
+    // A degenerate point (the derivatives vanish, as at a ring's corner, or are parallel, as on
+    // the fold where a two-sided face meets a sharp corner): the normal of a point a step inside,
+    // the steps growing toward the piece's centre; a piece degenerate throughout gets any unit
+    // normal across its one direction.
+    static constexpr double kSteps[] = {1e-6, 1e-3, 0.125, 0.5};
+    if (nudges == std::size(kSteps)) return {p.position, anyNormalAcross(p.dPds + p.dPdt)};
+    const double step = kSteps[nudges];
+    const double nx = x + (x < 0.5 ? step : -step), ny = y + (y < 0.5 ? step : -step);
+    return {p.position, evaluateLeaf(leaf, nx, ny, nudges + 1).normal};
   }
   return {p.position, n * (1.0 / l) * double(orientation.handedness())};
 }

@@ -47,7 +47,7 @@ class SurfaceEvaluator {
   SurfaceSample evaluate(NodeSquare start, double u, double v);
 
  private:
-  SurfaceSample evaluateLeaf(const NodeSquare& leaf, double x, double y);
+  SurfaceSample evaluateLeaf(const NodeSquare& leaf, double x, double y, size_t nudges = 0);
   const Vec3d* fasNet(uint32_t fasLeaf);
 
   const SurfaceTree& tree_;

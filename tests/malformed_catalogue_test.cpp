@@ -1,5 +1,6 @@
 // The malformed-input catalogue: every file in tests/data/malformed/ must be refused by
-// readObjFile + requireManifold with the kind and message that expected.tsv lists for it.
+// readObjFile + cutIntoSheets (what an upload runs) with the kind and message that expected.tsv
+// lists for it. Non-manifold meshes left it when they were accepted (manifold_sheets_test.cpp).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,7 +12,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/manifold_check.h"
+#include "core/manifold_sheets.h"
 #include "core/obj_reader.h"
 
 namespace tessera {
@@ -70,12 +71,12 @@ std::set<std::string> catalogueFiles() {
 
 TEST(MalformedCatalogue, EveryFileIsRefusedAsExpected) {
   const std::vector<CatalogueEntry> entries = readCatalogue();
-  EXPECT_GE(entries.size(), 24u);
+  EXPECT_GE(entries.size(), 20u);
   for (const CatalogueEntry& entry : entries) {
     SCOPED_TRACE(entry.file);
     const std::string path = kCatalogueDir + "/" + entry.file;
     try {
-      requireManifold(readObjFile(path));
+      cutIntoSheets(readObjFile(path));
       ADD_FAILURE() << "accepted";
     } catch (const TesseraError& error) {
       EXPECT_EQ(error.kind(), entry.kind) << error.what();

@@ -40,13 +40,6 @@ const RefusedShape kRefusedShapes[] = {
      "'t vertexedit' (hierarchical edit)"},
     {"opensubdiv-shapes/catmark_square_hedit4.obj", ErrorKind::kUnsupported, "t vertexedit",
      "'t vertexedit' (hierarchical edit)"},
-    // OpenSubdiv's non-manifold shapes include degenerate faces that repeat a vertex.
-    {"opensubdiv-shapes/catmark_nonman_edges.obj", ErrorKind::kInvalidInput,
-     "f 41/48 42/49 52/60 52/59", "face lists vertex 52 more than once"},
-    {"opensubdiv-shapes/catmark_nonman_quadpole8.obj", ErrorKind::kInvalidInput, "f 4 3 5 5",
-     "face lists vertex 5 more than once"},
-    {"opensubdiv-shapes/catmark_nonman_quadpole360.obj", ErrorKind::kInvalidInput, "f 4 3 5 5",
-     "face lists vertex 5 more than once"},
 };
 
 bool isRefused(const std::string& file) {

@@ -31,15 +31,6 @@ const std::map<std::string, Refusal> kRefusedShapes = {
     {"catmark_square_hedit2", {ErrorKind::kUnsupported, "hierarchical"}},
     {"catmark_square_hedit3", {ErrorKind::kUnsupported, "hierarchical"}},
     {"catmark_square_hedit4", {ErrorKind::kUnsupported, "hierarchical"}},
-    {"catmark_fan", {ErrorKind::kUnsupported, "non-manifold"}},
-    {"catmark_gregory_test4", {ErrorKind::kUnsupported, "non-manifold"}},
-    {"catmark_nonman_edge100", {ErrorKind::kUnsupported, "non-manifold"}},
-    {"catmark_nonman_verts", {ErrorKind::kUnsupported, "non-manifold"}},
-    {"catmark_val2_nonman", {ErrorKind::kUnsupported, "non-manifold"}},
-    // Degenerate faces that repeat a vertex: OpenSubdiv's non-manifold stress tests.
-    {"catmark_nonman_edges", {ErrorKind::kInvalidInput, "more than once"}},
-    {"catmark_nonman_quadpole8", {ErrorKind::kInvalidInput, "more than once"}},
-    {"catmark_nonman_quadpole360", {ErrorKind::kInvalidInput, "more than once"}},
 };
 
 // Bfr crashes above approximation level 10 and approximates the limit surface (with its own

@@ -102,7 +102,7 @@ class RenderBackend {
   // returned buffers), before the triangles it draws: reserved before the frame is admitted.
   virtual int64_t frameBytes(int width, int height) const = 0;
 
-  // Draws job's camera of mesh (validated, manifold). Called concurrently; implementations
+  // Draws job's camera of mesh (validated). Called concurrently; implementations
   // serialize device access themselves. Polls cancel between stages and while waiting for the
   // device (OperationCancelled). Throws TesseraError for bad or unsupported input and exceeded
   // budgets, RenderUnavailable, RenderLimitExceeded, or another std::exception for failures.

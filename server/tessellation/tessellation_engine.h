@@ -84,7 +84,7 @@ class TessellationEngine {
   // Why it is unavailable, or what it runs on, for GetServerInfo.
   virtual std::string detail() const = 0;
 
-  // Tessellates mesh (already validated, manifold) as job asks. Polls cancel often enough to
+  // Tessellates mesh (already validated) as job asks. Polls cancel often enough to
   // stop within a fraction of a second and then throws OperationCancelled (core's
   // TessellationOptions::checkpoint can call cancel.throwIfCancelled()). Reports bad or
   // unsupported input and exceeded budgets by throwing TesseraError (the server maps the kind

@@ -370,8 +370,14 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
          return uploadStatus(withHeader(
              arraysWith(good), [](auto& h) { h.set_display_name(std::string(300, 'x')); }));
        }},
-      {"non-manifold mesh", grpc::StatusCode::UNIMPLEMENTED,
-       "arrays: ", [&] { return uploadStatus(arraysWith(nonManifoldFan())); }},
+      {"non-manifold mesh under the boundary rule none", grpc::StatusCode::UNIMPLEMENTED,
+       "arrays: the mesh has 1 non-manifold edges and 2 non-manifold vertices, which are supported only with "
+       "a boundary rule other than \"none\"",
+       [&] {
+         return uploadStatus(withHeader(arraysWith(nonManifoldFan()), [](auto& h) {
+           h.mutable_options()->set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_NONE);
+         }));
+       }},
       {"more faces than the server allows", grpc::StatusCode::RESOURCE_EXHAUSTED,
        "faces; the limit is 2000", [&] { return uploadStatus(arraysWith(gridMesh(50, 0))); }},
       {"creases that would refine it into gigabytes", grpc::StatusCode::RESOURCE_EXHAUSTED,

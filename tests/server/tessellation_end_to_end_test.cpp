@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <thread>
@@ -103,8 +104,7 @@ class TessellationEndToEnd : public StoreTest {
   // Uploads TESSERA_MODELS_DIR/<model>.obj as meshes/<model>: the id the local CLI also names
   // the glTF mesh by (the file's stem), so that the two GLBs can be equal byte for byte.
   void upload(const std::string& model) {
-    UploadResult uploaded =
-        uploadMessages(*meshes_, objUpload(model, readFile(modelPath(model + ".obj"))));
+    UploadResult uploaded = uploadMessages(*meshes_, objUpload(model, readFile(sourceOf(model))));
     ASSERT_TRUE(uploaded.status.ok()) << model << ": " << uploaded.status.error_message();
   }
 
@@ -112,7 +112,7 @@ class TessellationEndToEnd : public StoreTest {
   std::string tessellateInProcess(const std::string& model, const std::string& cliArgs,
                                   int64_t* triangles, double* tolerance) {
     std::filesystem::path out = dir_.path() / (model + "-cli.glb");
-    CliRun run = runCli("tessellate " + modelPath(model + ".obj").string() + " " + cliArgs +
+    CliRun run = runCli("tessellate " + sourceOf(model).string() + " " + cliArgs +
                         " -o " + out.string());
     EXPECT_EQ(run.code, 0) << run.output;
     *triangles = printedTriangles(run.output);
@@ -138,10 +138,23 @@ class TessellationEndToEnd : public StoreTest {
     EXPECT_EQ(remote.summary->triangles(), glbTriangles(remote.glb));
     // The tolerance used (in pixel mode the smallest piece's ε), as the CLI prints it (6 digits).
     EXPECT_NEAR(remote.summary->tolerance(), cliTolerance, 1e-5 * cliTolerance);
-    // Every benchmark model's OBJ has texture coordinates: they come back as TEXCOORD_0.
+    // Every model's OBJ here has texture coordinates: they come back as TEXCOORD_0.
     EXPECT_TRUE(glbHasTexcoords(remote.glb));
   }
 
+  // A model's OBJ: TESSERA_MODELS_DIR/<model>.obj unless copied under another name.
+  std::filesystem::path sourceOf(const std::string& model) const {
+    const auto copied = copies_.find(model);
+    return copied != copies_.end() ? copied->second : modelPath(model + ".obj");
+  }
+  // Copies a shared model to <id>.obj in the test's directory: the CLI names the glTF mesh by the
+  // file's stem, the server by the id, and the id must be a valid mesh id.
+  void copyModel(const std::string& model, const std::string& id) {
+    copies_[id] = dir_.path() / (id + ".obj");
+    std::filesystem::copy_file(modelPath(model + ".obj"), copies_[id]);
+  }
+
+  std::map<std::string, std::filesystem::path> copies_;
   std::unique_ptr<ServerProcess> server_;
   std::unique_ptr<v1::MeshService::Stub> meshes_;
   std::unique_ptr<v1::TessellationService::Stub> tessellation_;
@@ -154,6 +167,19 @@ TEST_P(TessellationEndToEnd, EveryBenchmarkModelStreamsTheGlbTheCliWritesInProce
     v1::TessellateRequest request;
     request.set_relative(kRelativeTolerance);
     expectSameAsCli(model, request, fmt::format("--tolerance {:g} --relative", kRelativeTolerance));
+  }
+}
+
+// Non-manifold shapes (edges with three or more faces; bow-tie vertices) pass the upload and the
+// server's engine, whose GLB is the CLI's byte for byte.
+TEST_P(TessellationEndToEnd, NonManifoldShapesStreamTheGlbTheCliWrites) {
+  start();
+  for (const auto& [shape, id] : {std::pair{"catmark_fan", "fan"}, std::pair{"catmark_nonman_verts", "bow-ties"}}) {
+    copyModel(std::string("opensubdiv-shapes/") + shape, id);
+    upload(id);
+    v1::TessellateRequest request;
+    request.set_relative(kRelativeTolerance);
+    expectSameAsCli(id, request, fmt::format("--tolerance {:g} --relative", kRelativeTolerance));
   }
 }
 
