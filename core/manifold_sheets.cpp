@@ -312,11 +312,7 @@ ManifoldSheets SheetCutter::cut() {
   ManifoldSheets out;
   classifyEdges();
   numberSheetVertices(out);
-  if (!out.cut()) {
-    out.sheets = mesh_;
-    out.seams = mesh_;
-    return out;
-  }
+  if (!out.cut()) return ManifoldSheets{};
   if (mesh_.rules.boundary == BoundaryInterpolation::kNone) {
     throwUnsupported("the mesh has " + std::to_string(out.nonManifoldEdges) + " non-manifold edges and " +
                      std::to_string(out.nonManifoldVertices) +

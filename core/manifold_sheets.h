@@ -17,6 +17,7 @@
 
 namespace tessera {
 
+// Everything but the counts is empty unless cut(): a manifold input is its own sheets and seams.
 struct ManifoldSheets {
   // The input cut into oriented 2-manifolds with boundary: the same faces in the same order,
   // with the same parameterization; vertices [0, V) are the input's, copies follow.
@@ -30,6 +31,8 @@ struct ManifoldSheets {
   int nonManifoldEdges = 0, nonManifoldVertices = 0;
 
   bool cut() const { return nonManifoldEdges > 0 || nonManifoldVertices > 0; }
+  const ControlMesh& sheetsOf(const ControlMesh& input) const { return cut() ? sheets : input; }
+  const ControlMesh& seamsOf(const ControlMesh& input) const { return cut() ? seams : input; }
 };
 
 // Expects a mesh that passed validateControlMesh() (one whose face indices are out of range is

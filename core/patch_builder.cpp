@@ -235,7 +235,7 @@ void PatchSetBuilder::buildRings() {
 PatchSet PatchSetBuilder::build() {
   validateControlMesh(mesh_);
   sheets_ = cutIntoSheets(mesh_);
-  const ControlMesh& sheets = sheets_.sheets;
+  const ControlMesh& sheets = sheets_.sheetsOf(mesh_);
   checkpointNow();
   const int isolation = isolationLevelFor(sheets);
   if (maxRefinedVertices_ > 0 || beforeRefining_) {
@@ -295,7 +295,7 @@ PatchSet PatchSetBuilder::build() {
   auto surface = std::make_shared<AdaptiveSurface>();
   surface->tree = buildSurfaceTree(result_, sheets, checkpoint_);
   checkpointNow();
-  surface->seams = SeamTopology(sheets_.seams);
+  surface->seams = SeamTopology(sheets_.seamsOf(mesh_));
   surface->rootSeams = RootSeams(surface->tree, surface->seams);
   surface->lines = SeamLines(surface->tree, surface->seams, mesh_.vertexCount());
   result_.adaptive = std::move(surface);

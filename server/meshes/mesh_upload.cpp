@@ -213,7 +213,7 @@ AssembledUpload UploadAssembler::finish() {
   try {
     validateControlMesh(mesh, limits_.mesh);
     // What OpenSubdiv will refine: the mesh, or its manifold sheets where it is non-manifold.
-    refined = requireRefinementWithin(cutIntoSheets(mesh).sheets, limits_.maxRefinedVertices, {});
+    refined = requireRefinementWithin(cutIntoSheets(mesh).sheetsOf(mesh), limits_.maxRefinedVertices, {});
   } catch (const TesseraError& error) {
     rethrowWithPrefix(error, where);
   }
