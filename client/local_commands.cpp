@@ -55,6 +55,8 @@ nlohmann::json toJson(const MeshReport& r) {
       {"valences", histogram(r.valences)},
       {"edges", r.edges},
       {"boundary_edges", r.boundaryEdges},
+      {"non_manifold_edges", r.nonManifoldEdges},
+      {"non_manifold_vertices", r.nonManifoldVertices},
       {"creases", r.creases},
       {"infinitely_sharp_creases", r.infiniteCreases},
       {"corners", r.corners},
@@ -85,6 +87,10 @@ void printText(const std::string& path, const MeshReport& r) {
               formatHistogram(r.faceSizes).c_str());
   std::printf("  valences            {%s}\n", formatHistogram(r.valences).c_str());
   std::printf("  edges               %d (%d on a boundary)\n", r.edges, r.boundaryEdges);
+  if (r.nonManifoldEdges > 0 || r.nonManifoldVertices > 0) {
+    std::printf("  non-manifold        %d edges, %d vertices (cut into manifold sheets)\n", r.nonManifoldEdges,
+                r.nonManifoldVertices);
+  }
   std::printf("  creases             %d (%d infinitely sharp), corners %d, holes %d\n", r.creases,
               r.infiniteCreases, r.corners, r.holes);
   std::printf("  rules               boundary %s, creases %s, triangles %s\n",

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/manifold_sheets.h"
 #include "core/subdivision_rules.h"
 
 namespace tessera {
@@ -58,6 +59,9 @@ MeshReport inspectMesh(const ControlMesh& mesh) {
   MeshReport report;
   describeControlMesh(mesh, report);
   try {
+    const ManifoldSheets cut = cutIntoSheets(mesh);
+    report.nonManifoldEdges = cut.nonManifoldEdges;
+    report.nonManifoldVertices = cut.nonManifoldVertices;
     PatchSet set = buildPatchSet(mesh);
     report.regularPatches = static_cast<int>(set.regular.size());
     for (size_t r = 0; r < set.rings.size(); ++r) {

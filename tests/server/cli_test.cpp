@@ -42,9 +42,13 @@ class CliTest : public ::testing::Test {
 
   // Runs `tessera --server ADDRESS args` with stderr folded into the output.
   CliRun tessera(const std::string& args, const std::string& environment = "") {
+    return run(" --server " + server_->address() + " " + args, environment);
+  }
+
+  // Runs `tessera args` (a local command: no server).
+  CliRun run(const std::string& args, const std::string& environment = "") {
     std::string command = "env -u TESSERA_SERVER -u TESSERA_TOKEN " + environment + " " +
-                          TESSERA_CLI_BINARY + " --server " + server_->address() + " " + args +
-                          " 2>&1";
+                          TESSERA_CLI_BINARY + " " + args + " 2>&1";
     CliRun run{-1, ""};
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return run;
@@ -71,6 +75,28 @@ bool contains(const std::string& text, const std::string& part) {
                     "runRemoteTessellate() yet: "                                                 \
                  << (run).output;                                                                 \
   }
+
+// `tessera inspect`: the control mesh's make-up and what preprocessing made of it, as text and
+// JSON; a non-manifold shape is described and accepted, a hierarchical edit's refusal printed.
+TEST_F(CliTest, InspectDescribesNonManifoldShapesAndRefusals) {
+  const std::string shapes = modelPath("opensubdiv-shapes").string() + "/";
+  CliRun fan = run("inspect --json " + shapes + "catmark_fan.obj");
+  ASSERT_EQ(fan.code, kExitOk) << fan.output;
+  const nlohmann::json report = nlohmann::json::parse(fan.output, nullptr, false);
+  ASSERT_FALSE(report.is_discarded()) << fan.output;
+  EXPECT_TRUE(report["refused"].is_null());
+  EXPECT_GT(report["non_manifold_edges"].get<int>(), 0);
+  EXPECT_GT(report["regular_patches"].get<int>(), 0);
+  CliRun text = run("inspect " + shapes + "catmark_nonman_verts.obj");
+  ASSERT_EQ(text.code, kExitOk) << text.output;
+  EXPECT_TRUE(contains(text.output, "non-manifold        0 edges,")) << text.output;  // bow-ties only
+  EXPECT_FALSE(contains(text.output, "refused")) << text.output;
+  CliRun manifold = run("inspect " + shapes + "catmark_cube.obj");
+  EXPECT_FALSE(contains(manifold.output, "non-manifold")) << manifold.output;
+  CliRun edit = run("inspect " + shapes + "catmark_square_hedit0.obj");
+  EXPECT_NE(edit.code, kExitOk);
+  EXPECT_TRUE(contains(edit.output, "vertexedit")) << edit.output;
+}
 
 TEST_F(CliTest, UploadListGetDeleteInfoAndHealth) {
   startServer();
