@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "core/manifold_sheets.h"
+#include "core/refinement_input.h"
 #include "core/memory_estimates.h"
 #include "core/obj_reader.h"
 #include "core/refinement_budget.h"
@@ -212,8 +212,7 @@ AssembledUpload UploadAssembler::finish() {
   int64_t refined = 0;
   try {
     validateControlMesh(mesh, limits_.mesh);
-    // What OpenSubdiv will refine: the mesh, or its manifold sheets where it is non-manifold.
-    refined = requireRefinementWithin(cutIntoSheets(mesh).sheetsOf(mesh), limits_.maxRefinedVertices, {});
+    refined = requireRefinementWithin(RefinementInput(mesh).unholed(), limits_.maxRefinedVertices, {});
   } catch (const TesseraError& error) {
     rethrowWithPrefix(error, where);
   }
