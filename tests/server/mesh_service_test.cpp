@@ -49,25 +49,30 @@ TEST_P(MeshServiceTest, UploadObjReportsTheModelsCountsBoundsAndChecksum) {
   EXPECT_GT(mesh.create_time().seconds(), 1'600'000'000);
 }
 
+// bigguy, and OpenSubdiv's catmark_nonman_quadpole8 (non-manifold: faces that repeat a vertex).
 TEST_P(MeshServiceTest, ObjAndArraysUploadsOfOneMeshAgreeAndDownloadBitForBit) {
   auto server = startServer();
   ASSERT_TRUE(server);
   auto stub = v1::MeshService::NewStub(server->channel());
-  std::string text = readFile(modelPath("bigguy.obj"));
-  MeshArrays arrays = parseObjVerticesAndFaces(text);
+  for (const std::string model : {"bigguy", "opensubdiv-shapes/catmark_nonman_quadpole8"}) {
+    SCOPED_TRACE(model);
+    const std::string id = model == "bigguy" ? "bigguy" : "quadpole";
+    std::string text = readFile(modelPath(model + ".obj"));
+    MeshArrays arrays = parseObjVerticesAndFaces(text);
 
-  UploadResult fromObj = uploadMessages(*stub, objUpload("as-obj", text));
-  // 1000 floats per chunk: chunk boundaries fall inside vertices.
-  UploadResult fromArrays = uploadMessages(*stub, arraysUpload("as-arrays", arrays, 1000));
+    UploadResult fromObj = uploadMessages(*stub, objUpload(id + "-obj", text));
+    // 1000 floats per chunk: chunk boundaries fall inside vertices.
+    UploadResult fromArrays = uploadMessages(*stub, arraysUpload(id + "-arrays", arrays, 1000));
 
-  ASSERT_TRUE(fromObj.status.ok()) << fromObj.status.error_message();
-  ASSERT_TRUE(fromArrays.status.ok()) << fromArrays.status.error_message();
-  EXPECT_EQ(fromObj.mesh.sha256(), fromArrays.mesh.sha256());
-  EXPECT_EQ(fromArrays.mesh.source_bytes(), arrays.uploadBytes());
-  grpc::Status status;
-  EXPECT_EQ(downloadMesh(*stub, "as-obj", &status), arrays);
-  EXPECT_TRUE(status.ok()) << status.error_message();
-  EXPECT_EQ(downloadMesh(*stub, "as-arrays", &status), arrays);
+    ASSERT_TRUE(fromObj.status.ok()) << fromObj.status.error_message();
+    ASSERT_TRUE(fromArrays.status.ok()) << fromArrays.status.error_message();
+    EXPECT_EQ(fromObj.mesh.sha256(), fromArrays.mesh.sha256());
+    EXPECT_EQ(fromArrays.mesh.source_bytes(), arrays.uploadBytes());
+    grpc::Status status;
+    EXPECT_EQ(downloadMesh(*stub, id + "-obj", &status), arrays);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    EXPECT_EQ(downloadMesh(*stub, id + "-arrays", &status), arrays);
+  }
 }
 
 TEST_P(MeshServiceTest, CreasesCornersAndHolesRoundTrip) {
