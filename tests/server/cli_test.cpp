@@ -67,17 +67,6 @@ bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-// The local `tessellate` owns the subcommand and must hand meshes/ names to the remote form
-// (client/remote_tessellate.h); until it does, it tries to open them as files.
-#define SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(run)                                              \
-  if (contains((run).output, "OBJ file 'meshes/")) {                                             \
-    GTEST_SKIP() << "the local tessellate command does not dispatch meshes/ names to "           \
-                    "runRemoteTessellate() yet: "                                                 \
-                 << (run).output;                                                                 \
-  }
-
-// `tessera inspect`: the control mesh's make-up and what preprocessing made of it, as text and
-// JSON; a non-manifold shape is described and accepted, a hierarchical edit's refusal printed.
 TEST_F(CliTest, InspectDescribesNonManifoldShapesAndRefusals) {
   const std::string shapes = modelPath("opensubdiv-shapes").string() + "/";
   CliRun fan = run("inspect --json " + shapes + "catmark_fan.obj");
@@ -134,7 +123,6 @@ TEST_F(CliTest, ErrorsPrintTheStatusCodeNameAndMessage) {
   ASSERT_EQ(tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy").code, kExitOk);
   CliRun unknown = tessera("tessellate meshes/ghost --tolerance 0.01 -o " +
                            (dir_.path() / "out.glb").string());
-  SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(unknown);
   EXPECT_EQ(unknown.code, kExitRemote) << unknown.output;
   EXPECT_TRUE(contains(unknown.output, "NOT_FOUND: mesh meshes/ghost not found")) << unknown.output;
   // A failed call leaves no output file, not even a partial one.
@@ -161,7 +149,6 @@ TEST_F(CliTest, TessellateWritesTheStreamedFileAfterCheckingIt) {
   ASSERT_EQ(tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy").code, kExitOk);
   std::filesystem::path out = dir_.path() / "bigguy.glb";
   CliRun run = tessera("tessellate meshes/bigguy --tolerance 0.001 --relative -o " + out.string());
-  SKIP_UNLESS_REMOTE_TESSELLATE_IS_WIRED(run);
   EXPECT_EQ(run.code, kExitOk) << run.output;
   std::string written = readFile(out);
   ASSERT_EQ(written.size(), 200'003u);  // the pattern engine's output (server/tessellation/test_engines.h)
