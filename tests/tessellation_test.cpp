@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -125,7 +126,7 @@ std::vector<uint32_t> pointsOf(const TriangleMesh& mesh) {
 
 // A face that repeats a vertex consecutively has a side of no length: every point on that
 // degenerate line (a, a) is the surface's point at vertex a, and is one point with it here
-// (it must lie there: within 1e-9 of the diagonal of the line's first point). Triangles that
+// (it must lie there: within a few float roundings of the vertex). Triangles that
 // collapse with it have no area and leave the edge count.
 void collapseDegenerateLines(const TriangleMesh& mesh, const FaceTopology& faces, std::vector<uint32_t>& point) {
   std::vector<DomainKey> keys;
@@ -144,7 +145,8 @@ void collapseDegenerateLines(const TriangleMesh& mesh, const FaceTopology& faces
     if (key.kind != DomainKey::kVertex && !(key.kind == DomainKey::kEdge && key.a == key.b)) continue;
     const auto found = node.find(key.a);
     if (found == node.end()) continue;
-    EXPECT_LE(length(Vec3d(mesh.positions[v]) - Vec3d(mesh.positions[found->second])), 1e-9 * extent) << "vertex " << v;
+    EXPECT_LE(length(Vec3d(mesh.positions[v]) - Vec3d(mesh.positions[found->second])), 4 * FLT_EPSILON * extent)
+        << "vertex " << v;
     point[v] = found->second;
   }
 }
