@@ -9,6 +9,7 @@
 #include <climits>
 #include <cstdint>
 #include <numeric>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -128,10 +129,11 @@ class SheetCutter {
 
  private:
   void classifyEdges();
-  void countFarEdges(const HalfEdge* first, const HalfEdge* last);
+  bool countFarEdges(const HalfEdge* first, const HalfEdge* last);
   void numberSheetVertices(ManifoldSheets& out);
   bool sharpened(int vertex) const;
   void tagSheets(ManifoldSheets& out) const;
+  void tagSheetCreases(ControlMesh& sheets) const;
   void tagSeams(ManifoldSheets& out) const;
 
   const ControlMesh& mesh_;
@@ -154,12 +156,13 @@ struct FarEdge {
   bool nonManifold = false;
 };
 
-void SheetCutter::countFarEdges(const HalfEdge* first, const HalfEdge* last) {
+// Returns whether the pair is one manifold edge: two faces running along it opposite ways.
+bool SheetCutter::countFarEdges(const HalfEdge* first, const HalfEdge* last) {
   const int lo = int(first->edge >> 32), hi = int(first->edge & 0xffffffffu);
   if (lo == hi) {
     const int count = int(last - first);
     around_[lo].edges += 2 * count, around_[lo].boundary += 2 * count, around_[lo].nonManifold += 2 * count;
-    return;
+    return false;
   }
   SmallVector<FarEdge, 2> edges;
   for (const HalfEdge* h = first; h != last; ++h) {
@@ -184,10 +187,11 @@ void SheetCutter::countFarEdges(const HalfEdge* first, const HalfEdge* last) {
       around_[v].nonManifold += e.nonManifold;
     }
   }
+  return edges.size() == 1 && edges[0].faces == 2 && !edges[0].nonManifold;
 }
 
-// An edge is manifold when exactly two corners of different faces run along it in opposite
-// directions; their end vertices' corners then join one fan. A single corner is a boundary edge.
+// Across a manifold edge its end vertices' corners in the two faces join one fan. A single
+// corner is a boundary edge; every other pair is non-manifold.
 void SheetCutter::classifyEdges() {
   const std::vector<HalfEdge> halfEdges = sortedHalfEdges(corners_, mesh_.vertexCount());
   const HalfEdge* const end = halfEdges.data() + halfEdges.size();
@@ -195,17 +199,14 @@ void SheetCutter::classifyEdges() {
     const HalfEdge* last = first + 1;
     while (last != end && last->edge == first->edge) ++last;
     const int lo = int(first->edge >> 32), hi = int(first->edge & 0xffffffffu);
-    const int a = first->corner, b = last - first == 2 ? first[1].corner : -1;
-    const bool manifold = b >= 0 && lo != hi && corners_.vertex(a) != corners_.vertex(b) &&
-                          corners_.face(a) != corners_.face(b);
     const bool boundary = last - first == 1 && lo != hi;
-    if (manifold) {
+    if (countFarEdges(first, last)) {
+      const int a = first[0].corner, b = first[1].corner;
       fans_.join(a, corners_.next(b));
       fans_.join(corners_.next(a), b);
     } else if (!boundary) {
       nonManifoldEdges_.push_back({lo, hi});
     }
-    countFarEdges(first, last);
     first = last;
   }
 }
@@ -245,8 +246,7 @@ bool SheetCutter::sharpened(int v) const {
   return !(e.nonManifold == 2 && e.boundary == 0 && e.corners > e.edges);
 }
 
-// The sheets carry each input crease on the edges it became, and each input vertex's sharpness
-// on every copy. Their boundaries are the input's boundaries and its cuts, which OpenSubdiv
+// The sheets carry each input vertex's sharpness on every copy, and its creases. Their boundaries are the input's boundaries and its cuts, which OpenSubdiv
 // sharpens alike; a sheet corner with one face must not be sharpened as a topological corner
 // unless the input's was, so the sheets take the edge-only rule and name those corners.
 void SheetCutter::tagSheets(ManifoldSheets& out) const {
@@ -271,12 +271,17 @@ void SheetCutter::tagSheets(ManifoldSheets& out) const {
   for (size_t s = 0; s < out.inputVertex.size(); ++s) {
     if (sharpness[out.inputVertex[s]] > 0.0f) sheets.corners.push_back({int(s), sharpness[out.inputVertex[s]]});
   }
+  tagSheetCreases(sheets);
+}
 
-  // Input creases by edge (lo, hi); the sheet edge of a corner's half-edge where it is one.
-  std::vector<std::pair<std::pair<int, int>, float>> creases;
+// Each input crease on the sheet edge it became. A non-manifold edge is usually cut into
+// boundaries, but two of its faces that meet elsewhere too share one sheet edge (a two-sided
+// face): it stays infinitely sharp.
+void SheetCutter::tagSheetCreases(ControlMesh& sheets) const {
+  std::vector<std::pair<std::pair<int, int>, float>> creases;  // by input edge (lo, hi)
   for (const CreaseEdge& c : mesh_.creases) creases.push_back({{std::min(c.v0, c.v1), std::max(c.v0, c.v1)}, c.sharpness});
   std::sort(creases.begin(), creases.end());
-  std::vector<std::pair<int, int>> added;
+  std::set<std::pair<int, int>> added;
   for (int c = 0; c < corners_.count(); ++c) {
     const int a = corners_.vertex(c), b = corners_.vertex(corners_.next(c));
     const std::pair<int, int> edge{std::min(a, b), std::max(a, b)};
@@ -286,10 +291,7 @@ void SheetCutter::tagSheets(ManifoldSheets& out) const {
     if (!nonManifold && !creased) continue;
     const int sa = sheets.faceVertices[c], sb = sheets.faceVertices[corners_.next(c)];
     const std::pair<int, int> sheetEdge{std::min(sa, sb), std::max(sa, sb)};
-    if (std::find(added.begin(), added.end(), sheetEdge) != added.end()) continue;
-    added.push_back(sheetEdge);
-    // A non-manifold edge is usually cut into boundaries, but two of its faces that meet
-    // elsewhere too share one sheet edge (a two-sided face): it stays infinitely sharp.
+    if (!added.insert(sheetEdge).second) continue;
     if (nonManifold) {
       sheets.creases.push_back({sheetEdge.first, sheetEdge.second, kInfiniteSharpness});
       continue;

@@ -4,7 +4,6 @@
 #include <utility>
 
 #include "core/error.h"
-#include "core/manifold_sheets.h"
 #include "core/subdivision_rules.h"
 
 namespace tessera {
@@ -59,10 +58,9 @@ MeshReport inspectMesh(const ControlMesh& mesh) {
   MeshReport report;
   describeControlMesh(mesh, report);
   try {
-    const ManifoldSheets cut = cutIntoSheets(mesh);
-    report.nonManifoldEdges = cut.nonManifoldEdges;
-    report.nonManifoldVertices = cut.nonManifoldVertices;
     PatchSet set = buildPatchSet(mesh);
+    report.nonManifoldEdges = set.stats.nonManifoldEdges;
+    report.nonManifoldVertices = set.stats.nonManifoldVertices;
     report.regularPatches = static_cast<int>(set.regular.size());
     for (size_t r = 0; r < set.rings.size(); ++r) {
       ++report.ringsByKind[ringKind(set.rings, r)][set.rings.shapes[r].sectors];

@@ -16,7 +16,7 @@ struct MeshReport {
   std::map<int, int> valences;   // vertex valence (incident edges) -> count
   int edges = 0, boundaryEdges = 0;
   // Where OpenSubdiv's rules for non-manifold topology apply (core/manifold_sheets.h): edges as
-  // the input's vertex pairs, vertices as the input's.
+  // the input's vertex pairs, vertices as the input's. Known once preprocessing accepted the mesh.
   int nonManifoldEdges = 0, nonManifoldVertices = 0;
   int creases = 0, infiniteCreases = 0, corners = 0, holes = 0;
   std::string boundaryInterpolation, creaseMethod, triangleSubdivision;

@@ -300,6 +300,8 @@ PatchSet PatchSetBuilder::build() {
 
   result_.stats.isolationLevel = isolation;
   result_.stats.holes = static_cast<int>(mesh_.holes.size());
+  result_.stats.nonManifoldEdges = input_->cut().nonManifoldEdges;
+  result_.stats.nonManifoldVertices = input_->cut().nonManifoldVertices;
   std::set<int> refinedBaseFaces;
   for (size_t p = 0; p < result_.regular.size(); ++p) {
     if (result_.regular.levels[p] > 0) refinedBaseFaces.insert(result_.regular.domains[p].baseFace);

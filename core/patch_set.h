@@ -80,6 +80,7 @@ struct PatchSetStats {
   int isolationLevel = 0;
   int locallyRefinedFaces = 0;  // base faces that needed at least one level of refinement
   int holes = 0;
+  int nonManifoldEdges = 0, nonManifoldVertices = 0;  // where the mesh was cut into sheets
 };
 
 struct AdaptiveSurface;  // core/adaptive_surface.h

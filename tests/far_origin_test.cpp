@@ -39,7 +39,10 @@ std::string transformedObj(const std::string& path, double scale, const Vec3d& o
   size_t corner = 0;
   for (int size : mesh.faceSizes) {
     obj += "f";
-    for (int k = 0; k < size; ++k) obj += " " + std::to_string(mesh.faceVertices[corner++] + 1);
+    for (int k = 0; k < size; ++k) {
+      obj += ' ';  // appended: `" " + std::string` trips GCC 12's -Wrestrict (105651)
+      obj += std::to_string(mesh.faceVertices[corner++] + 1);
+    }
     obj += "\n";
   }
   for (const CreaseEdge& c : mesh.creases) {
