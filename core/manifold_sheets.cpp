@@ -246,9 +246,10 @@ bool SheetCutter::sharpened(int v) const {
   return !(e.nonManifold == 2 && e.boundary == 0 && e.corners > e.edges);
 }
 
-// The sheets carry each input vertex's sharpness on every copy, and its creases. Their boundaries are the input's boundaries and its cuts, which OpenSubdiv
-// sharpens alike; a sheet corner with one face must not be sharpened as a topological corner
-// unless the input's was, so the sheets take the edge-only rule and name those corners.
+// The sheets carry each input vertex's sharpness on every copy, and its creases. Their
+// boundaries are the input's boundaries and its cuts, which OpenSubdiv sharpens alike; a sheet
+// corner with one face must not be sharpened as a topological corner unless the input's was, so
+// the sheets take the edge-only rule and name those corners.
 void SheetCutter::tagSheets(ManifoldSheets& out) const {
   ControlMesh& sheets = out.sheets;
   sheets.rules = mesh_.rules;

@@ -57,6 +57,15 @@ ControlMesh makeGrid(int n) {
   return mesh;
 }
 
+// Three quads on edge (0, 1), the simplest non-manifold edge.
+ControlMesh threeQuadsOnOneEdge() {
+  ControlMesh mesh = withVertices(8);
+  addFace(mesh, {0, 2, 3, 1});
+  addFace(mesh, {1, 5, 4, 0});
+  addFace(mesh, {0, 6, 7, 1});
+  return mesh;
+}
+
 float cornerSharpness(const ControlMesh& mesh, int vertex) {
   for (const CornerVertex& c : mesh.corners) {
     if (c.vertex == vertex) return c.sharpness;
@@ -103,10 +112,7 @@ TEST(ManifoldSheets, ManifoldMeshesAreNotCut) {
 // Three quads on edge (0, 1): each keeps its own copy of the edge, whose ends (one non-manifold
 // edge and boundary edges each) OpenSubdiv makes corners.
 TEST(ManifoldSheets, EdgeSharedByThreeFacesIsCutIntoThreeBoundaries) {
-  ControlMesh mesh = withVertices(8);
-  addFace(mesh, {0, 2, 3, 1});
-  addFace(mesh, {1, 5, 4, 0});
-  addFace(mesh, {0, 6, 7, 1});
+  ControlMesh mesh = threeQuadsOnOneEdge();
   const ManifoldSheets cut = cutIntoSheets(mesh);
   EXPECT_TRUE(cut.cut());
   EXPECT_EQ(cut.nonManifoldEdges, 1);
@@ -178,10 +184,7 @@ TEST(ManifoldSheets, TwoSidedFaceKeepsItsNonManifoldEdgeSharp) {
 }
 
 TEST(ManifoldSheets, TopologicalCornersStaySharpenedOnlyWhereTheInputsWere) {
-  ControlMesh mesh = withVertices(8);
-  addFace(mesh, {0, 2, 3, 1});
-  addFace(mesh, {1, 5, 4, 0});
-  addFace(mesh, {0, 6, 7, 1});
+  ControlMesh mesh = threeQuadsOnOneEdge();
   mesh.rules.boundary = BoundaryInterpolation::kEdgeAndCorner;
   const ManifoldSheets cut = cutIntoSheets(mesh);
   EXPECT_EQ(cut.sheets.rules.boundary, BoundaryInterpolation::kEdgeOnly);
