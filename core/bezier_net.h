@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/host_device.h"
 #include "core/vec3.h"
 
 namespace tessera {
@@ -101,13 +102,13 @@ struct Orientation {
 
   bool swapsAxes() const { return su == 0; }
   // +1 when (s, t) and (u, v) have the same handedness.
-  int handedness() const { return su * tv - sv * tu; }
+  TESSERA_HD int handedness() const { return su * tv - sv * tu; }
   // Three bits, kept per leaf: axes swapped, s backward, t backward.
   uint8_t code() const {
     const bool swapped = swapsAxes();
     return uint8_t((swapped ? 1 : 0) | ((swapped ? sv : su) < 0 ? 2 : 0) | ((swapped ? tu : tv) < 0 ? 4 : 0));
   }
-  static Orientation fromCode(uint8_t code) {
+  TESSERA_HD static Orientation fromCode(uint8_t code) {
     const int s = code & 2 ? -1 : 1, t = code & 4 ? -1 : 1;
     return code & 1 ? Orientation{0, s, t, 0} : Orientation{s, 0, 0, t};
   }
