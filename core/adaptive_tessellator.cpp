@@ -22,8 +22,20 @@ size_t AdaptiveSurface::bytes() const {
 
 namespace {
 
-// Vertices [first, last) on the limit surface. Where each lies (face, sub-face, (u, v)) only
-// when asked: tests and tools read it, a GLB does not.
+// Where vertices [first, last) lie (face, sub-face, (u, v)): tests and tools read it, a GLB does
+// not.
+void recordRange(const AdaptiveSurface& surface, const Stitching& stitching, const std::vector<uint32_t>& tileRoot,
+                 size_t first, size_t last, TriangleMesh& mesh) {
+  for (size_t i = first; i < last; ++i) {
+    const VertexRequest& request = stitching.vertices[i];
+    const SurfaceRoot& root = surface.tree.roots[tileRoot[request.tile]];
+    mesh.vertexFace[i] = root.baseFace;
+    mesh.vertexSubFace[i] = root.subFace;
+    mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
+  }
+}
+
+// Vertices [first, last) on the limit surface (and where each lies when `record`).
 void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, const AdaptivePlan& plan,
                    const Stitching& stitching, const std::vector<uint32_t>& tileRoot, bool record, size_t first,
                    size_t last, TriangleMesh& mesh) {
@@ -32,12 +44,8 @@ void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, 
     const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
     mesh.positions[i] = Vec3(sample.position);
     mesh.normals[i] = Vec3(sample.normal);
-    if (!record) continue;
-    const SurfaceRoot& root = surface.tree.roots[tileRoot[request.tile]];
-    mesh.vertexFace[i] = root.baseFace;
-    mesh.vertexSubFace[i] = root.subFace;
-    mesh.vertexUv[2 * i] = request.u, mesh.vertexUv[2 * i + 1] = request.v;
   }
+  if (record) recordRange(surface, stitching, tileRoot, first, last, mesh);
 }
 
 // The runs' triangles one after the other into mesh.indices (and each triangle's tile into
@@ -74,12 +82,13 @@ std::vector<uint32_t> concatenateRuns(const std::vector<TileTriangleOutput>& out
 // take their original's position bit for bit); then, run by run of roots, each root's own
 // vertices and at once its tiles' triangles, so that a root's vertices are triangulated by the
 // core that evaluated them, from its cache (the two were separate passes over all vertices and
-// all tiles); then the runs concatenated in order. Returns the corners facing against their
+// all tiles); then the runs concatenated in order. With an `external` evaluation every vertex is
+// evaluated there first and the runs only triangulate. Returns the corners facing against their
 // vertex normals (TileTriangleOutput), as positions in mesh.indices.
 std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const AdaptiveSurface& surface,
                                              const AdaptivePlan& plan, const Stitching& stitching,
                                              const std::vector<uint32_t>& tileRoot, bool record, TriangleMesh& mesh,
-                                             const std::function<void()>& checkpoint) {
+                                             VertexEvaluation* external, const std::function<void()>& checkpoint) {
   const size_t count = stitching.vertices.size();
   mesh.positions.resize(count);
   mesh.normals.resize(count);
@@ -93,12 +102,17 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   const size_t seamFirst = stitching.rootFirstVertex.back();
-  tbb::parallel_for(tbb::blocked_range<size_t>(seamFirst, count, chunkFor(count - seamFirst, 64, 1024)),
-                    [&](const auto& range) {
-                      if (checkpoint) checkpoint();
-                      evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record, range.begin(),
-                                    range.end(), mesh);
-                    });
+  if (external) {
+    external->evaluate(plan, stitching, mesh.positions, mesh.normals);
+    if (record) recordRange(surface, stitching, tileRoot, 0, count, mesh);
+  } else {
+    tbb::parallel_for(tbb::blocked_range<size_t>(seamFirst, count, chunkFor(count - seamFirst, 64, 1024)),
+                      [&](const auto& range) {
+                        if (checkpoint) checkpoint();
+                        evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record, range.begin(),
+                                      range.end(), mesh);
+                      });
+  }
   for (size_t i = stitching.copyFirst; i < count; ++i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
 
   const size_t roots = plan.rootFirstTile.size() - 1;
@@ -110,8 +124,10 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
     const size_t firstRoot = r * run, endRoot = std::min(roots, (r + 1) * run);
-    evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record, stitching.rootFirstVertex[firstRoot],
-                  stitching.rootFirstVertex[endRoot], mesh);
+    if (!external) {
+      evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record,
+                    stitching.rootFirstVertex[firstRoot], stitching.rootFirstVertex[endRoot], mesh);
+    }
     const size_t firstTile = plan.rootFirstTile[firstRoot], endTile = plan.rootFirstTile[endRoot];
     // Room for the run's triangles up front (a tile makes two a cell and one a side point past
     // its own, about), not grown by doubling from nothing.
@@ -360,7 +376,8 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
 }
 
 TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptiveLayout& layout,
-                                bool recordParameters, const std::function<void()>& checkpoint) {
+                                bool recordParameters, const std::function<void()>& checkpoint,
+                                VertexEvaluation* evaluation) {
   const AdaptivePlan& plan = layout.plan;
   const Stitching& stitching = layout.stitching;
   std::vector<uint32_t> tileRoot(plan.tiles.size());
@@ -369,7 +386,7 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
   }
   TriangleMesh mesh;
   std::vector<uint32_t> away =
-      evaluateAndTriangulate(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, checkpoint);
+      evaluateAndTriangulate(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, evaluation, checkpoint);
   if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
   splitFoldNormals(std::move(away), mesh);
   return mesh;

@@ -9,6 +9,7 @@
 #include "core/adaptive_plan.h"
 #include "core/adaptive_surface.h"
 #include "core/tile_stitching.h"
+#include "core/vertex_evaluation.h"
 #include "core/watertight_tessellator.h"
 
 namespace tessera {
@@ -28,7 +29,9 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
 // With recordParameters (tests, tools; a GLB needs none of it): trianglePiece holds each
 // triangle's tile, vertexFace/vertexSubFace/vertexUv where each vertex was evaluated, vertexPoint
 // the vertex each copy repeats, and each triangle's root and its corners' (u, v) there.
+// `evaluation` (may be null: the CPU's, fused with triangulation) puts the vertices on the surface.
 TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptiveLayout& layout,
-                                bool recordParameters = false, const std::function<void()>& checkpoint = {});
+                                bool recordParameters = false, const std::function<void()>& checkpoint = {},
+                                VertexEvaluation* evaluation = nullptr);
 
 }  // namespace tessera

@@ -26,7 +26,8 @@ TessellationResult tessellateToTolerance(const PatchSet& patches, const Tessella
   TessellationResult result;
   result.summary.planMs = millisecondsSince(start);
   start = std::chrono::steady_clock::now();
-  result.mesh = tessellateAdaptive(patches, surface, layout, options.recordParameters, options.checkpoint);
+  result.mesh = tessellateAdaptive(patches, surface, layout, options.recordParameters, options.checkpoint,
+                                   options.vertexEvaluation);
   result.summary.tessellateMs = millisecondsSince(start);
   TessellationSummary& s = result.summary;
   s.triangles = int64_t(result.mesh.triangleCount());

@@ -11,6 +11,8 @@
 
 namespace tessera {
 
+class VertexEvaluation;  // core/vertex_evaluation.h
+
 struct TessellationOptions {
   Accuracy accuracy;
   std::optional<Camera> camera;   // the view a pixel accuracy is for; only with Mode::kPixel
@@ -30,6 +32,9 @@ struct TessellationOptions {
   // output is built from it; may throw. A server reserves the output's memory here. Called again
   // if planning has to go round again.
   std::function<void(int64_t triangles)> beforeOutput;
+  // Where a tolerance request's vertices are evaluated (core/vertex_evaluation.h); null: on the
+  // CPU. Not owned.
+  VertexEvaluation* vertexEvaluation = nullptr;
 };
 
 // Throws TesseraError (kInvalidInput) naming the bad field: the accuracy (validateAccuracy), a

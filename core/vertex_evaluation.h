@@ -1,0 +1,26 @@
+// Where the adaptive tessellation's vertices are put on the limit surface. By default on the
+// CPU, each run of roots just before its tiles are triangulated, from that core's cache
+// (core/adaptive_tessellator.cpp); an engine with a device (gpu/cuda) evaluates them all there at
+// once with the same arithmetic (core/surface_point.h) and hands back the same values.
+#pragma once
+
+#include <vector>
+
+#include "core/adaptive_plan.h"
+#include "core/tile_stitching.h"
+#include "core/vec3.h"
+
+namespace tessera {
+
+class VertexEvaluation {
+ public:
+  virtual ~VertexEvaluation() = default;
+  // Every vertex the stitching asks for (stitching.vertices[i], in the root of plan tile
+  // vertices[i].tile, from that tile's node) into positions[i] and its unit normal into
+  // normals[i]; both already sized. Copies (i ≥ stitching.copyFirst) are evaluated like the
+  // others: the caller gives them their original's position afterwards.
+  virtual void evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
+                        std::vector<Vec3>& normals) = 0;
+};
+
+}  // namespace tessera

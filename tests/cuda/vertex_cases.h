@@ -1,0 +1,67 @@
+// The adaptive tessellations the vertex kernel's simulation and its device test both run, each
+// with the CPU engine's mesh to match: every supported OpenSubdiv shape at 1e-2 (regular, FAS and
+// EV-bottom leaves, creases, holes, non-manifold sheets), and the paper's characters at 1e-3.
+#pragma once
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/obj_reader.h"
+#include "core/patch_set.h"
+#include "core/tessellate.h"
+#include "core/vertex_evaluation.h"
+#include "tests/support/models.h"
+
+namespace tessera::cuda::testing {
+
+struct VertexCase {
+  std::string path;
+  double tolerance;  // relative to the bounding-box diagonal
+};
+
+inline std::vector<VertexCase> vertexCases(bool characters) {
+  std::vector<VertexCase> cases;
+  if (characters) {
+    for (const std::string& path : tessera::testing::benchmarkCharacters()) cases.push_back({path, 1e-3});
+    return cases;
+  }
+  for (const std::string& path : tessera::testing::openSubdivShapes()) cases.push_back({path, 1e-2});
+  // Fine enough to reach the deepest EV quadrants' stand-ins.
+  cases.push_back({tessera::testing::modelsDir() + "/opensubdiv-shapes/catmark_pole8.obj", 1e-5});
+  return cases;
+}
+
+// The case's mesh; empty when Tessera refuses the file (the hierarchical edits).
+inline ControlMesh readCaseMesh(const std::string& path) {
+  try {
+    return readObjFile(path);
+  } catch (const TesseraError& error) {
+    if (error.kind() != ErrorKind::kUnsupported) throw;
+    return {};
+  }
+}
+
+inline TessellationOptions vertexCaseOptions(double tolerance, VertexEvaluation* evaluation) {
+  TessellationOptions options;
+  options.accuracy = Accuracy::relative(tolerance);
+  options.maxTriangles = 100'000'000;
+  options.vertexEvaluation = evaluation;
+  return options;
+}
+
+// Index of the first vertex whose position or normal differs in any bit, -1 if none; the vertex
+// count when the meshes differ in size or triangles.
+inline long firstVertexDifference(const TriangleMesh& a, const TriangleMesh& b) {
+  if (a.positions.size() != b.positions.size() || a.indices != b.indices) return long(a.positions.size());
+  for (size_t i = 0; i < a.positions.size(); ++i) {
+    if (std::memcmp(&a.positions[i], &b.positions[i], sizeof(Vec3)) != 0 ||
+        std::memcmp(&a.normals[i], &b.normals[i], sizeof(Vec3)) != 0) {
+      return long(i);
+    }
+  }
+  return -1;
+}
+
+}  // namespace tessera::cuda::testing
