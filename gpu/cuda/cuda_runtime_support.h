@@ -11,17 +11,18 @@
 #include <string>
 
 #include "core/error.h"
+#include "gpu/cuda/device_out_of_memory.h"
 
 namespace tessera::cuda::detail {
 
 // Throws std::runtime_error "<component>: <what> failed: <name> (<description>)"; a device out
-// of memory throws TesseraError(kLimitExceeded) with that message instead, so that a caller can
-// fall back or answer RESOURCE_EXHAUSTED.
+// of memory throws DeviceOutOfMemory (a kLimitExceeded TesseraError) instead, so that a caller
+// can fall back or answer RESOURCE_EXHAUSTED.
 inline void checkCuda(cudaError_t status, const char* component, const char* what) {
   if (status == cudaErrorMemoryAllocation) {
     cudaGetLastError();  // not sticky: clear it for the next call on this thread
-    throwLimit(std::string(component) + ": " + what + " failed: device memory exhausted (" +
-               cudaGetErrorName(status) + ")");
+    throw DeviceOutOfMemory(std::string(component) + ": " + what + " failed: device memory exhausted (" +
+                            cudaGetErrorName(status) + ")");
   }
   if (status != cudaSuccess) {
     throw std::runtime_error(std::string(component) + ": " + what + " failed: " +

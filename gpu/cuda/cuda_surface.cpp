@@ -51,7 +51,7 @@ CudaVertexEvaluation::CudaVertexEvaluation(const CudaSurface& surface) : surface
 
 CudaVertexEvaluation::~CudaVertexEvaluation() = default;
 
-void CudaVertexEvaluation::evaluate(const AdaptivePlan& plan, const Stitching& stitching,
+bool CudaVertexEvaluation::evaluate(const AdaptivePlan& plan, const Stitching& stitching,
                                     std::vector<Vec3>& positions, std::vector<Vec3>& normals) {
   std::vector<NodeSquare> tileNodes(plan.tiles.size());
   for (size_t t = 0; t < plan.tiles.size(); ++t) tileNodes[t] = plan.tiles[t].node;
@@ -69,6 +69,7 @@ void CudaVertexEvaluation::evaluate(const AdaptivePlan& plan, const Stitching& s
   check(cudaMemcpyAsync(normals.data(), outNormals.get(), count * sizeof(Vec3), cudaMemcpyDeviceToHost, stream.get()),
         "normals download");
   stream.synchronize("vertexKernel");
+  return true;
 }
 
 }  // namespace tessera::cuda

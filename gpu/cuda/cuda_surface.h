@@ -10,11 +10,12 @@
 
 #include "core/patch_set.h"
 #include "core/vertex_evaluation.h"
+#include "gpu/cuda/device_out_of_memory.h"
 
 namespace tessera::cuda {
 
 // No device throws TesseraError(kUnsupported, "no CUDA device: ..."), a device out of memory
-// TesseraError(kLimitExceeded, "... device memory exhausted ..."); another failing CUDA call
+// DeviceOutOfMemory (gpu/cuda/device_out_of_memory.h); another failing CUDA call
 // throws std::runtime_error naming it.
 class CudaSurface {
  public:
@@ -39,7 +40,8 @@ class CudaVertexEvaluation : public VertexEvaluation {
   explicit CudaVertexEvaluation(const CudaSurface& surface);
   ~CudaVertexEvaluation() override;
 
-  void evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
+  // Always true: a device out of memory throws DeviceOutOfMemory (the caller decides).
+  bool evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
                 std::vector<Vec3>& normals) override;
   // Milliseconds the last evaluate() spent on the device (CUDA events around the kernel alone).
   float kernelMs() const { return kernelMs_; }

@@ -30,7 +30,7 @@
 #include "server/store/store_health.h"
 #include "server/calls/stream_watch.h"
 #include "server/tessellation/tessellation_service.h"
-#include "server/tessellation/cpu_engine.h"
+#include "server/tessellation/engine_choice.h"
 #include "server/meshes/patch_set_cache.h"
 #include "server/operations/process_metrics.h"
 #include "server/tessellation/test_engines.h"
@@ -61,7 +61,7 @@ std::shared_ptr<grpc::ServerCredentials> serverCredentials(const ServerConfig& c
 }
 
 std::unique_ptr<TessellationEngine> makeEngine(const ServerConfig& config, PatchSetCache& patches) {
-  if (config.testEngine.empty()) return std::make_unique<CpuTessellationEngine>(patches);
+  if (config.testEngine.empty()) return chooseEngine(config.engine, size_t(config.deviceCacheBytes), patches);
   spdlog::warn("using the test engine \"{}\": results are not geometry", config.testEngine);
   return makeTestEngine(config.testEngine);
 }
@@ -79,6 +79,7 @@ v1::ServerInfo describeServer(const ServerConfig& config, const TessellationEngi
   render->set_available(renderer.available());
   render->set_detail(renderer.detail());
   std::string device = fmt::format("CPU: {} hardware threads", std::thread::hardware_concurrency());
+  if (!engine.device().empty()) device += "; tessellation device: " + engine.device();
   if (!renderer.device().empty()) device += "; render device: " + renderer.device();
   info.set_device(device);
   v1::ServerLimits* limits = info.mutable_limits();
@@ -281,6 +282,7 @@ int runServer(const ServerConfig& config) {
   BearerAuth auth(config.token);
   registerSampledMetrics(registry, repository, patches, admission, streams);
   registerProcessMetrics(registry);
+  registerEngineMetrics(registry, *engine);
 
   MeshServiceImpl meshService(repository, admission, streams, auth, config.upload, metrics);
   TessellationServiceImpl tessellationService(repository, admission, streams, *engine, auth,
@@ -318,6 +320,8 @@ int runServer(const ServerConfig& config) {
                metricsServer ? metricsServer->address() : "off", frontDoor ? frontDoor->address() : "off");
   spdlog::info("memory budget {}: {} for jobs, {} for the caches", formatBytes(config.memoryBudget),
                formatBytes(config.jobMemoryBytes), formatBytes(config.cacheBytes + config.patchCacheBytes));
+  spdlog::info("tessellation engine {}: {}{}", engine->name(), engine->detail(),
+               engine->device().empty() ? "" : "; device " + engine->device());
   if (!auth.enabled() && !listensOnLoopbackOnly(config.listen)) {
     spdlog::warn("{} is reachable from other machines and no --token is set: anyone who can "
                  "connect may upload, read and delete meshes",

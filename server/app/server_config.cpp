@@ -169,6 +169,19 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->transform(CLI::AsSizeValue(false))
               ->capture_default_str(),
           "TESSERA_PATCH_CACHE_BYTES");
+  withEnv(app.add_option("--engine", c.engine,
+                         "Where tessellation runs: cpu; cuda (the vertices on the GPU, the server "
+                         "refuses to start without a CUDA device); auto (cuda when a device is "
+                         "present and this build has CUDA, else cpu)")
+              ->check(CLI::IsMember({"auto", "cpu", "cuda"}))
+              ->capture_default_str(),
+          "TESSERA_ENGINE");
+  withEnv(app.add_option("--device-cache-bytes", c.deviceCacheBytes,
+                         "GPU memory for the CUDA engine's surface trees (one per mesh, least "
+                         "recently used dropped first)")
+              ->transform(CLI::AsSizeValue(false))
+              ->capture_default_str(),
+          "TESSERA_DEVICE_CACHE_BYTES");
   withEnv(app.add_option("--drain-delay", c.drainDelaySeconds,
                          "Seconds a stopping server reports NOT_SERVING but still takes calls, so that "
                          "health-checking clients and load balancers move away first")
@@ -224,6 +237,7 @@ void finalizeServerConfig(ServerConfig& c) {
   }
   if (c.cacheBytes < 0) throw std::invalid_argument("--cache-bytes must not be negative");
   if (c.patchCacheBytes < 0) throw std::invalid_argument("--patch-cache-bytes must not be negative");
+  if (c.deviceCacheBytes < 0) throw std::invalid_argument("--device-cache-bytes must not be negative");
   if (c.memoryBudget < 0) throw std::invalid_argument("--memory-budget must not be negative");
   if (c.memoryBudget == 0) c.memoryBudget = machineMemoryBytes() / 4 * 3;
   c.jobMemoryBytes = c.memoryBudget - c.cacheBytes - c.patchCacheBytes - kServerBaseBytes;

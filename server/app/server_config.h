@@ -32,6 +32,8 @@ struct ServerConfig {
   bool reflection = true;
   int64_t cacheBytes = 512LL << 20;       // decoded meshes
   int64_t patchCacheBytes = 512LL << 20;  // preprocessed patch sets, shared by all engines
+  std::string engine = "auto";            // "auto", "cpu" or "cuda" (server_app.cpp's makeEngine)
+  int64_t deviceCacheBytes = 2LL << 30;   // GPU memory for the CUDA engine's surface trees
   // The whole server's memory (0: 3/4 of the machine's or the container's, machine_memory.h);
   // jobs get what the caches and the server itself (kServerBaseBytes) leave of it.
   int64_t memoryBudget = 0;

@@ -32,11 +32,17 @@ TessellationOptions optionsFor(const TessellationJob& job, const CancellationTok
 }  // namespace
 
 std::string CpuTessellationEngine::detail() const {
-  return "EBOAT on the CPU: OpenSubdiv Far preprocessing, CER FAS, watertight triangulation";
+  const std::string detail = "EBOAT on the CPU: OpenSubdiv Far preprocessing, CER FAS, watertight triangulation";
+  return note_.empty() ? detail : detail + " (" + note_ + ")";
 }
 
 TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const TessellationJob& job,
                                               const CancellationToken& cancel) {
+  return runWith(mesh, job, cancel, {});
+}
+
+TessellationOutput CpuTessellationEngine::runWith(const ControlMesh& mesh, const TessellationJob& job,
+                                                  const CancellationToken& cancel, const VertexEvaluationFor& device) {
   using Clock = std::chrono::steady_clock;
   auto seconds = [](Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); };
   auto progress = [&](const char* stage, double fraction) {
@@ -52,6 +58,8 @@ TessellationOutput CpuTessellationEngine::run(const ControlMesh& mesh, const Tes
   progress("tessellating", 0.3);
   start = Clock::now();
   TessellationOptions options = optionsFor(job, cancel, mesh.hasUvs());
+  const std::unique_ptr<VertexEvaluation> evaluation = device ? device(patches, job) : nullptr;
+  options.vertexEvaluation = evaluation.get();
   const std::optional<PositionQuantization> positions = reserveForEncoding(job.encoding, *patches, options);
   TessellationResult result = tessellate(*patches, mesh, options);
   output.summary.timings.push_back({"tessellate", seconds(start)});

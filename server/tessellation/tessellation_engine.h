@@ -83,6 +83,8 @@ class TessellationEngine {
   virtual bool available() const = 0;
   // Why it is unavailable, or what it runs on, for GetServerInfo.
   virtual std::string detail() const = 0;
+  // The accelerator it runs on, one line (empty: the CPU only), for GetServerInfo and metrics.
+  virtual std::string device() const { return {}; }
 
   // Tessellates mesh (already validated) as job asks. Polls cancel often enough to
   // stop within a fraction of a second and then throws OperationCancelled (core's
