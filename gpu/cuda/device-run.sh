@@ -29,8 +29,10 @@ step() {  # step NAME SECONDS COMMAND...: output to NAME.txt (appended), status 
 
 # Most telling first: if the call runs out of time, the later steps are the ones lost.
 step cuda-tests 90 ./tessera-cuda-tests
+step server-engine 120 ./server-engine-check.sh
 step table2 90 ./tessera-cuda-table2
 step table1 60 ./tessera-cuda-bench
+step adaptive 120 ./tessera-cuda-adaptive
 step render-tests 90 ./tessera-render-tests
 step render-tests 90 ./tessera-render-engine-tests
 if command -v compute-sanitizer >/dev/null; then
@@ -40,6 +42,10 @@ if command -v compute-sanitizer >/dev/null; then
   done
   step sanitizer 60 compute-sanitizer --tool memcheck --error-exitcode 1 ./tessera-cuda-tests \
     --gtest_filter='CudaUniformGrid.*'
+  for tool in memcheck racecheck synccheck; do
+    step sanitizer 60 compute-sanitizer --tool "$tool" --error-exitcode 1 ./tessera-cuda-tests \
+      --gtest_filter='CudaVertices.EqualTheCpuEngineOnEveryShape'
+  done
 fi
 step render-bench 45 ./tessera-render-bench --benchmark_min_time=0.2
 step render-bench 60 ./tessera-frame-bench --benchmark_filter='Frame/'

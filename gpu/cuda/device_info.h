@@ -1,5 +1,5 @@
-// Which CUDA device Tessera would run on, for the tests and benchmarks that need one (and, once
-// the server has a CUDA engine, for its server info).
+// Which CUDA device Tessera would run on: for the tests and benchmarks that need one, and for the
+// server's engine choice and server info (server/tessellation/engine_choice.h).
 // Plain C++ (no CUDA types). Never throws and never crashes when the driver or the device is
 // missing: `available` is false and `reason` says why, in CUDA's own words.
 #pragma once
