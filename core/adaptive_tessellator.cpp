@@ -82,8 +82,8 @@ std::vector<uint32_t> concatenateRuns(const std::vector<TileTriangleOutput>& out
 // take their original's position bit for bit); then, run by run of roots, each root's own
 // vertices and at once its tiles' triangles, so that a root's vertices are triangulated by the
 // core that evaluated them, from its cache (the two were separate passes over all vertices and
-// all tiles); then the runs concatenated in order. With an `external` evaluation every vertex is
-// evaluated there first and the runs only triangulate. Returns the corners facing against their
+// all tiles); then the runs concatenated in order. Where an `external` evaluation evaluates every
+// vertex first, the runs only triangulate. Returns the corners facing against their
 // vertex normals (TileTriangleOutput), as positions in mesh.indices.
 std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const AdaptiveSurface& surface,
                                              const AdaptivePlan& plan, const Stitching& stitching,
@@ -102,8 +102,8 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   const size_t seamFirst = stitching.rootFirstVertex.back();
-  if (external) {
-    external->evaluate(plan, stitching, mesh.positions, mesh.normals);
+  const bool evaluated = external && external->evaluate(plan, stitching, mesh.positions, mesh.normals);
+  if (evaluated) {
     if (record) recordRange(surface, stitching, tileRoot, 0, count, mesh);
   } else {
     tbb::parallel_for(tbb::blocked_range<size_t>(seamFirst, count, chunkFor(count - seamFirst, 64, 1024)),
@@ -124,7 +124,7 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
     const size_t firstRoot = r * run, endRoot = std::min(roots, (r + 1) * run);
-    if (!external) {
+    if (!evaluated) {
       evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record,
                     stitching.rootFirstVertex[firstRoot], stitching.rootFirstVertex[endRoot], mesh);
     }

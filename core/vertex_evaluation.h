@@ -18,8 +18,9 @@ class VertexEvaluation {
   // Every vertex the stitching asks for (stitching.vertices[i], in the root of plan tile
   // vertices[i].tile, from that tile's node) into positions[i] and its unit normal into
   // normals[i]; both already sized. Copies (i ≥ stitching.copyFirst) are evaluated like the
-  // others: the caller gives them their original's position afterwards.
-  virtual void evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
+  // others: the caller gives them their original's position afterwards. False when it could not
+  // (a device out of memory): the CPU evaluates them then, as without it.
+  virtual bool evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
                         std::vector<Vec3>& normals) = 0;
 };
 

@@ -23,7 +23,7 @@ class SimulatedVertexEvaluation : public VertexEvaluation {
  public:
   explicit SimulatedVertexEvaluation(const PatchSet& patches) : upload_(makeSurfaceUpload(patches)) {}
 
-  void evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
+  bool evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
                 std::vector<Vec3>& normals) override {
     std::vector<NodeSquare> tileNodes;
     for (const Tile& tile : plan.tiles) tileNodes.push_back(tile.node);
@@ -37,6 +37,7 @@ class SimulatedVertexEvaluation : public VertexEvaluation {
     std::shuffle(threads.begin(), threads.end(), random_);
     for (uint64_t i : threads) evaluateVertex(view, i);
     ++calls;
+    return true;
   }
 
   int calls = 0;
