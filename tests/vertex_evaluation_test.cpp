@@ -1,0 +1,83 @@
+// core/vertex_evaluation.h's seam, which the CUDA engine plugs into: an evaluation that puts every
+// vertex on the surface itself (here SurfaceEvaluator, in reverse order, into poisoned arrays)
+// gives the CPU path's mesh and per-vertex records exactly; one that declines (a device out of
+// memory) leaves the CPU to do it, with the same result; copies get their original's position.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+
+#include "core/adaptive_surface.h"
+#include "core/obj_reader.h"
+#include "core/surface_evaluation.h"
+#include "core/tessellate.h"
+#include "core/vertex_evaluation.h"
+#include "tests/support/models.h"
+
+namespace tessera {
+namespace {
+
+class ReverseEvaluation : public VertexEvaluation {
+ public:
+  ReverseEvaluation(const PatchSet& patches, bool decline) : patches_(patches), decline_(decline) {}
+  bool evaluate(const AdaptivePlan& plan, const Stitching& stitching, std::vector<Vec3>& positions,
+                std::vector<Vec3>& normals) override {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::fill(positions.begin(), positions.end(), Vec3(nan, nan, nan));
+    std::fill(normals.begin(), normals.end(), Vec3(nan, nan, nan));
+    ++calls;
+    if (decline_) return false;
+    SurfaceEvaluator evaluator(patches_.adaptive->tree, patches_);
+    for (size_t i = stitching.vertices.size(); i-- > 0;) {
+      const VertexRequest& request = stitching.vertices[i];
+      const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
+      positions[i] = Vec3(sample.position), normals[i] = Vec3(sample.normal);
+    }
+    return true;
+  }
+  int calls = 0;
+
+ private:
+  const PatchSet& patches_;
+  bool decline_;
+};
+
+bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+}
+
+void expectSameMesh(const TriangleMesh& a, const TriangleMesh& b) {
+  EXPECT_EQ(a.indices, b.indices);
+  EXPECT_TRUE(sameBits(a.positions, b.positions));
+  EXPECT_TRUE(sameBits(a.normals, b.normals));
+  EXPECT_EQ(a.vertexFace, b.vertexFace);
+  EXPECT_EQ(a.vertexSubFace, b.vertexSubFace);
+  EXPECT_EQ(a.vertexUv, b.vertexUv);
+  EXPECT_EQ(a.vertexPoint, b.vertexPoint);
+  EXPECT_EQ(a.triangleST, b.triangleST);
+}
+
+TEST(VertexEvaluation, AnEvaluationOfItsOwnOrOneThatDeclinesGivesTheCpuMesh) {
+  // bigguy: extraordinary vertices, creases none; catmark_cube_creases2: crease copies (one
+  // position, a normal per side).
+  for (const std::string& path : {testing::modelsDir() + "/bigguy.obj",
+                                 testing::modelsDir() + "/opensubdiv-shapes/catmark_cube_creases2.obj"}) {
+    SCOPED_TRACE(path);
+    const ControlMesh mesh = readObjFile(path);
+    const PatchSet patches = buildPatchSet(mesh);
+    TessellationOptions options;
+    options.accuracy = Accuracy::relative(1e-3);
+    options.recordParameters = true;
+    const TessellationResult cpu = tessellate(patches, mesh, options);
+    for (bool decline : {false, true}) {
+      ReverseEvaluation evaluation(patches, decline);
+      options.vertexEvaluation = &evaluation;
+      const TessellationResult other = tessellate(patches, mesh, options);
+      EXPECT_EQ(evaluation.calls, 1);
+      expectSameMesh(other.mesh, cpu.mesh);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace tessera
