@@ -54,6 +54,35 @@ DeviceArray<T> uploadToDevice(const T* host, size_t count, const char* component
   return array;
 }
 
+// A device array allocated in stream order (cudaMallocAsync: from the device's memory pool,
+// without the device-wide synchronization cudaMalloc and cudaFree bring, so concurrent requests on
+// their own streams do not wait for each other) and freed in stream order when destroyed. Destroy
+// it before its stream is synchronized and destroyed.
+template <class T>
+class StreamArray {
+ public:
+  StreamArray(size_t count, cudaStream_t stream, const char* component, const char* what) : stream_(stream) {
+    if (count > 0) checkCuda(cudaMallocAsync(reinterpret_cast<void**>(&data_), count * sizeof(T), stream), component, what);
+  }
+  // Allocated and filled from host memory.
+  StreamArray(const T* host, size_t count, cudaStream_t stream, const char* component, const char* what)
+      : StreamArray(count, stream, component, what) {
+    if (count > 0) {
+      checkCuda(cudaMemcpyAsync(data_, host, count * sizeof(T), cudaMemcpyHostToDevice, stream), component, what);
+    }
+  }
+  ~StreamArray() {
+    if (data_ != nullptr) cudaFreeAsync(data_, stream_);
+  }
+  StreamArray(const StreamArray&) = delete;
+  StreamArray& operator=(const StreamArray&) = delete;
+  T* get() const { return data_; }
+
+ private:
+  cudaStream_t stream_;
+  T* data_ = nullptr;
+};
+
 // A non-blocking stream and two events to time what is enqueued on it. Destroying it waits for
 // the stream first, so declare it after the device arrays its kernels use (members are destroyed
 // in reverse order).
@@ -88,6 +117,20 @@ class TimedStream {
     checkCuda(cudaEventElapsedTime(&milliseconds, start_, stop_), component_,
               "cudaEventElapsedTime");
     return milliseconds / float(repetitions);
+  }
+
+  // Enqueues `enqueue` between the two events, without waiting; elapsedMs() reads their time once
+  // the stream has been synchronized.
+  template <class Enqueue>
+  void timeWithoutWaiting(Enqueue&& enqueue) {
+    checkCuda(cudaEventRecord(start_, stream_), component_, "cudaEventRecord");
+    enqueue();
+    checkCuda(cudaEventRecord(stop_, stream_), component_, "cudaEventRecord");
+  }
+  float elapsedMs() {
+    float milliseconds = 0.0f;
+    checkCuda(cudaEventElapsedTime(&milliseconds, start_, stop_), component_, "cudaEventElapsedTime");
+    return milliseconds;
   }
 
   // Waits for the stream; a fault of a kernel on it is reported here, naming `what`.

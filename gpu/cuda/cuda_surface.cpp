@@ -56,19 +56,21 @@ bool CudaVertexEvaluation::evaluate(const AdaptivePlan& plan, const Stitching& s
   std::vector<NodeSquare> tileNodes(plan.tiles.size());
   for (size_t t = 0; t < plan.tiles.size(); ++t) tileNodes[t] = plan.tiles[t].node;
   const size_t count = stitching.vertices.size();
-  const detail::DeviceArray<NodeSquare> nodes = upload(tileNodes, "tile nodes upload");
-  const detail::DeviceArray<VertexRequest> requests =
-      detail::uploadToDevice(stitching.vertices.data(), count, kComponent, "vertex requests upload");
-  const detail::DeviceArray<Vec3> outPositions = detail::allocateDevice<Vec3>(count, kComponent, "positions");
-  const detail::DeviceArray<Vec3> outNormals = detail::allocateDevice<Vec3>(count, kComponent, "normals");
+  detail::TimedStream stream(kComponent);  // declared first: destroyed (synchronized) last
+  const detail::StreamArray<NodeSquare> nodes(tileNodes.data(), tileNodes.size(), stream.get(), kComponent,
+                                              "tile nodes upload");
+  const detail::StreamArray<VertexRequest> requests(stitching.vertices.data(), count, stream.get(), kComponent,
+                                                    "vertex requests upload");
+  const detail::StreamArray<Vec3> outPositions(count, stream.get(), kComponent, "positions");
+  const detail::StreamArray<Vec3> outNormals(count, stream.get(), kComponent, "normals");
   const VertexView view{surface_.impl().view, nodes.get(), requests.get(), count, outPositions.get(), outNormals.get()};
-  detail::TimedStream stream(kComponent);  // declared after the arrays: destroyed (synchronized) first
-  kernelMs_ = stream.meanMs(1, [&] { detail::launchVertices(view, stream.get()); });
+  stream.timeWithoutWaiting([&] { detail::launchVertices(view, stream.get()); });
   check(cudaMemcpyAsync(positions.data(), outPositions.get(), count * sizeof(Vec3), cudaMemcpyDeviceToHost, stream.get()),
         "positions download");
   check(cudaMemcpyAsync(normals.data(), outNormals.get(), count * sizeof(Vec3), cudaMemcpyDeviceToHost, stream.get()),
         "normals download");
   stream.synchronize("vertexKernel");
+  kernelMs_ = stream.elapsedMs();
   return true;
 }
 
