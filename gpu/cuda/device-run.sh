@@ -5,6 +5,7 @@
 set -uo pipefail
 cd "$(dirname "$0")"
 log="${OUT:-.}"
+[ -d lib ] || tar -xzf lib.tar.gz  # packed by stage-device-run.sh
 export LD_LIBRARY_PATH="$PWD/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 export TESSERA_MODELS_DIR="$PWD/models" VK_LAYER_PATH="$PWD/layers"
 export XDG_RUNTIME_DIR=/tmp/xdg && mkdir -p "$XDG_RUNTIME_DIR"

@@ -48,6 +48,9 @@ mkdir -p /tmp/amd64/partial
 [ -n "$(ls /tmp/amd64/*Packages* 2>/dev/null)" ] || apt-get "${apt_options[@]}" update >/dev/null
 (cd "$stage/gl" && apt-get "${apt_options[@]}" download libvulkan1 libegl1 libglvnd0 libopengl0 \
   libgl1 libglx0 libgles2 >/dev/null)
+# Packed: a device call carries 64 MiB at most, and the libraries are 55 MB as files (the
+# validation layer alone 22 MB), about 20 MB packed. run.sh unpacks them.
+tar -czf "$stage/lib.tar.gz" -C "$stage" lib && rm -r "$stage/lib"
 cp "$root/gpu/cuda/device-run.sh" "$stage/run.sh"
 cp "$root/gpu/cuda/server-engine-check.sh" "$stage/"
 du -sh "$stage"
