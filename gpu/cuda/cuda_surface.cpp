@@ -47,6 +47,8 @@ CudaSurface::~CudaSurface() = default;
 
 size_t CudaSurface::deviceBytes() const { return impl_->bytes; }
 
+const SurfaceView& CudaSurface::deviceView() const { return impl_->view; }
+
 CudaVertexEvaluation::CudaVertexEvaluation(const CudaSurface& surface) : surface_(surface) {}
 
 CudaVertexEvaluation::~CudaVertexEvaluation() = default;
@@ -63,7 +65,7 @@ bool CudaVertexEvaluation::evaluate(const AdaptivePlan& plan, const Stitching& s
                                                     "vertex requests upload");
   const detail::StreamArray<Vec3> outPositions(count, stream.get(), kComponent, "positions");
   const detail::StreamArray<Vec3> outNormals(count, stream.get(), kComponent, "normals");
-  const VertexView view{surface_.impl().view, nodes.get(), requests.get(), count, outPositions.get(), outNormals.get()};
+  const VertexView view{surface_.deviceView(), nodes.get(), requests.get(), count, outPositions.get(), outNormals.get()};
   stream.timeWithoutWaiting([&] { detail::launchVertices(view, stream.get()); });
   check(cudaMemcpyAsync(positions.data(), outPositions.get(), count * sizeof(Vec3), cudaMemcpyDeviceToHost, stream.get()),
         "positions download");

@@ -11,6 +11,7 @@
 #include "core/patch_set.h"
 #include "core/vertex_evaluation.h"
 #include "gpu/cuda/device_out_of_memory.h"
+#include "gpu/cuda/vertex_threads.h"
 
 namespace tessera::cuda {
 
@@ -25,11 +26,11 @@ class CudaSurface {
   CudaSurface& operator=(const CudaSurface&) = delete;
 
   size_t deviceBytes() const;
-
-  struct Impl;
-  const Impl& impl() const { return *impl_; }
+  // The arrays as the vertex kernel reads them (device pointers).
+  const SurfaceView& deviceView() const;
 
  private:
+  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
