@@ -58,5 +58,7 @@ if command -v ncu >/dev/null; then
     ./tessera-cuda-bench --rings 100000 --valences 6 --depths 5 --repetitions 1
   step ncu 60 ncu --clock-control none "${sections[@]}" -k regex:uniformGridKernel -c 1 \
     ./tessera-cuda-table2 --models t-rex --levels 64 --repetitions 1
+  step ncu 60 ncu --clock-control none "${sections[@]}" -k regex:vertexKernel -c 1 \
+    ./tessera-cuda-adaptive --models armorguy --tolerances 1e-3
 fi
 cat "$summary"
