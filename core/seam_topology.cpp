@@ -53,7 +53,11 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
       const int before = other(corner(f, k - 1), corner(f, k)), after = other(corner(f, k), corner(f, k + 1));
       const bool manifold = edgeFaces[ordered(corner(f, k - 1), corner(f, k))].size() == 2 &&
                             edgeFaces[ordered(corner(f, k), corner(f, k + 1))].size() == 2;
-      cornerPinched[faceOffsets[f] + k] = manifold && before >= 0 && before == after;
+      // The face itself folds there: it comes back along the edge it left by (a → v → a), or an
+      // edge there has collapsed to the vertex (v → v); its sides there are one curve or a point.
+      const bool folded = corner(f, k - 1) == corner(f, k + 1) || corner(f, k - 1) == corner(f, k) ||
+                          corner(f, k) == corner(f, k + 1);
+      cornerPinched[faceOffsets[f] + k] = (manifold && before >= 0 && before == after) || folded;
     }
   }
   std::vector<int> parent(faceSizes.size());

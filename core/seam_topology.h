@@ -39,7 +39,9 @@ struct SeamTopology {
   std::vector<int> faceSizes, faceVertices, faceOffsets;
   std::vector<std::pair<int, int>> sharpEdges;  // infinitely sharp base edges (lo, hi), sorted
   std::vector<int> cornerWedge;                 // per face corner: its wedge id, or -1 (one normal)
-  // Per face corner: both edges there are shared with the same other face (a valence-2 vertex).
+  // Per face corner: both edges there are shared with the same other face (a valence-2 vertex),
+  // or the face folds there (both edges are one input edge, or one has collapsed to the vertex):
+  // a tile there needs a point inside, or its triangles would lie back to back or collapse.
   std::vector<uint8_t> cornerPinched;
 
   explicit SeamTopology(const ControlMesh& mesh);
