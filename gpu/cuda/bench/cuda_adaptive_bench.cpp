@@ -8,17 +8,15 @@
 // Models are read from TESSERA_MODELS_DIR (default: the checkout's ../shared/models).
 #include <tbb/info.h>
 
-#include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/glb_writer.h"
 #include "core/obj_reader.h"
 #include "core/tessellate.h"
+#include "gpu/cuda/bench/bench_timing.h"
 #include "gpu/cuda/cuda_surface.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/support/models.h"
@@ -26,33 +24,7 @@
 namespace {
 
 using namespace tessera;
-using Clock = std::chrono::steady_clock;
-
-std::vector<std::string> split(const char* text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) items.push_back(item);
-  return items;
-}
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Median of 7 timed calls of `work` after one untimed call.
-template <class Work>
-double medianMs(Work&& work) {
-  work();
-  std::vector<double> times;
-  for (int r = 0; r < 7; ++r) {
-    const Clock::time_point start = Clock::now();
-    work();
-    times.push_back(msSince(start));
-  }
-  std::nth_element(times.begin(), times.begin() + 3, times.end());
-  return times[3];
-}
+using namespace cuda::bench;
 
 TessellationOptions optionsFor(double tolerance, VertexEvaluation* evaluation) {
   TessellationOptions options;
@@ -107,8 +79,8 @@ int main(int argc, char** argv) {
       auto job = [&](VertexEvaluation* e) {
         return [&, e] { writeGlb(tessellate(patches, mesh, optionsFor(tolerance, e)).mesh, {}); };
       };
-      const double cpuMs = medianMs(job(nullptr));
-      const double cudaMs = medianMs(job(&evaluation));
+      const double cpuMs = medianMs(7, job(nullptr));
+      const double cudaMs = medianMs(7, job(&evaluation));
       std::printf("| %s | %g | %zu | %zu | %.2f | %.2f | %.3f | %.1f | %.1f | %.2f | %s |\n", name.c_str(), tolerance,
                   cpu.mesh.positions.size(), cpu.mesh.triangleCount(), cpuMs, cudaMs, evaluation.kernelMs(), uploadMs,
                   double(surface.deviceBytes()) / 1e6, cpuMs / cudaMs, equal ? "bit for bit" : "DIFFER");

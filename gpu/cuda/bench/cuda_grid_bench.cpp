@@ -11,16 +11,15 @@
 #include <tbb/info.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "core/obj_reader.h"
 #include "core/uniform_grid.h"
+#include "gpu/cuda/bench/bench_timing.h"
 #include "gpu/cuda/cuda_uniform_grid.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/support/models.h"
@@ -28,21 +27,13 @@
 namespace {
 
 using namespace tessera;
-using Clock = std::chrono::steady_clock;
+using namespace cuda::bench;
 
 struct Options {
   std::vector<int> levels = {16, 32, 64};
   int repetitions = 20;
   std::vector<std::string> models = {"bigguy", "monsterfrog", "armorguy", "t-rex", "car"};
 };
-
-std::vector<std::string> split(const char* text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) items.push_back(item);
-  return items;
-}
 
 bool parse(int argc, char** argv, Options& options) {
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -58,24 +49,6 @@ bool parse(int argc, char** argv, Options& options) {
     }
   }
   return argc % 2 == 1 && options.repetitions > 0;
-}
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// Median of `runs` timed calls of `work` after one untimed call.
-template <class Work>
-double medianMs(int runs, Work&& work) {
-  work();
-  std::vector<double> times;
-  for (int r = 0; r < runs; ++r) {
-    const Clock::time_point start = Clock::now();
-    work();
-    times.push_back(msSince(start));
-  }
-  std::nth_element(times.begin(), times.begin() + runs / 2, times.end());
-  return times[size_t(runs / 2)];
 }
 
 size_t differingSamples(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
