@@ -43,10 +43,18 @@ std::string bigguyGlb(const ServerProcess& server) {
   return streamed.glb;
 }
 
+// The engine's device as GetServerInfo's device line names it ("...; tessellation device: D; ..."),
+// empty when the line names none.
+std::string tessellationDevice(const v1::ServerInfo& info) {
+  const std::string key = "tessellation device: ";
+  const size_t at = info.device().find(key);
+  if (at == std::string::npos) return {};
+  const size_t from = at + key.size();
+  return info.device().substr(from, info.device().find("; ", from) - from);
+}
+
 std::string engineInfoSeries(const Started& s) {
-  return "tessera_engine_info{engine=\"" + s.info.backends(0).name() + "\",device=\"" +
-         (s.info.backends(0).name() == "cuda" ? s.info.device().substr(s.info.device().find("tessellation device: ") + 21)
-                                              : std::string()) +
+  return "tessera_engine_info{engine=\"" + s.info.backends(0).name() + "\",device=\"" + tessellationDevice(s.info) +
          "\"}";
 }
 
@@ -57,7 +65,7 @@ TEST(EngineChoice, CpuAndAutoAreNamedAndStreamTheSameGlb) {
   ASSERT_GE(cpu.info.backends_size(), 1);
   ASSERT_GE(automatic.info.backends_size(), 1);
   EXPECT_EQ(cpu.info.backends(0).name(), "cpu");
-  EXPECT_EQ(cpu.info.device().find("tessellation device"), std::string::npos) << cpu.info.device();
+  EXPECT_EQ(tessellationDevice(cpu.info), "") << cpu.info.device();
   const std::string chosen = automatic.info.backends(0).name();
   if (chosen == "cpu") {
     // Why not CUDA: no device, or a build without it.
@@ -65,7 +73,7 @@ TEST(EngineChoice, CpuAndAutoAreNamedAndStreamTheSameGlb) {
         << automatic.info.backends(0).detail();
   } else {
     EXPECT_EQ(chosen, "cuda");
-    EXPECT_NE(automatic.info.device().find("tessellation device: "), std::string::npos) << automatic.info.device();
+    EXPECT_NE(tessellationDevice(automatic.info), "") << automatic.info.device();
   }
   for (const Started* s : {&cpu, &automatic}) {
     const std::string page = httpGet(s->server->metricsAddress(), "/metrics");
