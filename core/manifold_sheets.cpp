@@ -115,10 +115,11 @@ std::vector<HalfEdge> sortedHalfEdges(const FaceCorners& corners, int vertexCoun
   return halfEdges;
 }
 
-// What OpenSubdiv's tags read at a vertex: face corners there, Far's edges there (FarEdge), and
-// how many of those are boundary or non-manifold edges.
+// What OpenSubdiv's tags read at a vertex: face corners there, Far's edges there (FarEdge), how
+// many of those are boundary or non-manifold edges, and how many manifold ones are infinitely
+// sharp creases.
 struct VertexEdges {
-  int corners = 0, edges = 0, boundary = 0, nonManifold = 0;
+  int corners = 0, edges = 0, boundary = 0, nonManifold = 0, sharpCreases = 0;
 };
 
 class SheetCutter {
@@ -131,6 +132,7 @@ class SheetCutter {
   void classifyEdges();
   bool countFarEdges(const HalfEdge* first, const HalfEdge* last);
   void numberSheetVertices(ManifoldSheets& out);
+  void countSharpCreases();
   bool sharpened(int vertex) const;
   void tagSheets(ManifoldSheets& out) const;
   void tagSheetCreases(ControlMesh& sheets) const;
@@ -238,12 +240,23 @@ void SheetCutter::numberSheetVertices(ManifoldSheets& out) {
   out.nonManifoldVertices = int(std::count(nonManifoldVertex_.begin(), nonManifoldVertex_.end(), 1));
 }
 
+void SheetCutter::countSharpCreases() {
+  for (const CreaseEdge& c : mesh_.creases) {
+    const std::pair<int, int> edge{std::min(c.v0, c.v1), std::max(c.v0, c.v1)};
+    if (c.sharpness < kInfiniteSharpness || std::binary_search(nonManifoldEdges_.begin(), nonManifoldEdges_.end(), edge)) continue;
+    around_[c.v0].sharpCreases += 1, around_[c.v1].sharpCreases += 1;
+  }
+}
+
 // OpenSubdiv leaves a non-manifold vertex unsharpened only inside an interior non-manifold
-// crease: two non-manifold edges, no boundary edge, and more faces than edges (the fins).
+// crease: two non-manifold edges, no boundary edge, and more faces than edges (the fins). Its
+// rule there comes from its sharp edges: with an infinitely sharp crease besides the two, a
+// corner at every level, which the sheets' copies (each fin sees the two edges, one fin the
+// crease too) would not all be unless sharpened.
 bool SheetCutter::sharpened(int v) const {
   if (!nonManifoldVertex_[v]) return false;
   const VertexEdges& e = around_[v];
-  return !(e.nonManifold == 2 && e.boundary == 0 && e.corners > e.edges);
+  return !(e.nonManifold == 2 && e.boundary == 0 && e.corners > e.edges && e.sharpCreases == 0);
 }
 
 // The sheets carry each input vertex's sharpness on every copy, and its creases. Their
@@ -314,6 +327,7 @@ void SheetCutter::tagSeams(ManifoldSheets& out) const {
 ManifoldSheets SheetCutter::cut() {
   ManifoldSheets out;
   classifyEdges();
+  countSharpCreases();
   numberSheetVertices(out);
   if (!out.cut()) return ManifoldSheets{};
   if (mesh_.rules.boundary == BoundaryInterpolation::kNone) {

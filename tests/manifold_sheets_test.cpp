@@ -293,5 +293,24 @@ TEST(ManifoldSheets, SheetsHaveTheInputsLimitSurface) {
   EXPECT_GE(checked, 5);
 }
 
+// The same fins with an infinitely sharp crease across vertex 1 in one fin: three sharp edges
+// make vertex 1 a corner in OpenSubdiv at every level, so every copy is one; each fin's copy sees
+// only two of them (the crease rule) and the sheets' surface would not be the input's. (Bfr as
+// the reference: Far's Gregory end caps at this corner differ by 4e-4 between the two meshes.)
+TEST(ManifoldSheets, InteriorNonManifoldCreaseWithAThirdSharpEdgeIsACorner) {
+  ControlMesh mesh = withVertices(3 + 3 * 3);
+  for (int fin = 0; fin < 3; ++fin) {
+    const int a = 3 + 3 * fin;
+    addFace(mesh, {0, 1, a + 1, a});
+    addFace(mesh, {1, 2, a + 2, a + 1});
+  }
+  mesh.creases.push_back({1, 4, kInfiniteSharpness});
+  const ManifoldSheets cut = cutIntoSheets(mesh);
+  expectSheetsOfInput(cut, mesh);
+  for (int s : copiesOf(cut, 1)) EXPECT_EQ(cornerSharpness(cut.sheets, s), kInfiniteSharpness);
+  EXPECT_EQ(cornerSharpness(cut.seams, 1), kInfiniteSharpness);
+  expectSameLimitSurface<testing::BfrReference>(mesh, cut.sheets);
+}
+
 }  // namespace
 }  // namespace tessera
