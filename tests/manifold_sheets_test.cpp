@@ -57,6 +57,17 @@ ControlMesh makeGrid(int n) {
   return mesh;
 }
 
+// Three fins of two quads each on the chain 0-1-2 (an interior non-manifold crease at vertex 1).
+ControlMesh threeFinsOnAChain() {
+  ControlMesh mesh = withVertices(3 + 3 * 3);
+  for (int fin = 0; fin < 3; ++fin) {
+    const int a = 3 + 3 * fin;
+    addFace(mesh, {0, 1, a + 1, a});
+    addFace(mesh, {1, 2, a + 2, a + 1});
+  }
+  return mesh;
+}
+
 // Three quads on edge (0, 1), the simplest non-manifold edge.
 ControlMesh threeQuadsOnOneEdge() {
   ControlMesh mesh = withVertices(8);
@@ -131,12 +142,7 @@ TEST(ManifoldSheets, EdgeSharedByThreeFacesIsCutIntoThreeBoundaries) {
 // boundary edge and six faces on five edges, so it keeps the crease rule; the chain's ends are
 // corners.
 TEST(ManifoldSheets, InteriorNonManifoldCreaseKeepsTheCreaseRule) {
-  ControlMesh mesh = withVertices(3 + 3 * 3);
-  for (int fin = 0; fin < 3; ++fin) {
-    const int a = 3 + 3 * fin;
-    addFace(mesh, {0, 1, a + 1, a});
-    addFace(mesh, {1, 2, a + 2, a + 1});
-  }
+  ControlMesh mesh = threeFinsOnAChain();
   const ManifoldSheets cut = cutIntoSheets(mesh);
   expectSheetsOfInput(cut, mesh);
   EXPECT_EQ(cut.nonManifoldEdges, 2);
@@ -298,12 +304,7 @@ TEST(ManifoldSheets, SheetsHaveTheInputsLimitSurface) {
 // only two of them (the crease rule) and the sheets' surface would not be the input's. (Bfr as
 // the reference: Far's Gregory end caps at this corner differ by 4e-4 between the two meshes.)
 TEST(ManifoldSheets, InteriorNonManifoldCreaseWithAThirdSharpEdgeIsACorner) {
-  ControlMesh mesh = withVertices(3 + 3 * 3);
-  for (int fin = 0; fin < 3; ++fin) {
-    const int a = 3 + 3 * fin;
-    addFace(mesh, {0, 1, a + 1, a});
-    addFace(mesh, {1, 2, a + 2, a + 1});
-  }
+  ControlMesh mesh = threeFinsOnAChain();
   mesh.creases.push_back({1, 4, kInfiniteSharpness});
   const ManifoldSheets cut = cutIntoSheets(mesh);
   expectSheetsOfInput(cut, mesh);
