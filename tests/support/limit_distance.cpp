@@ -40,9 +40,9 @@ std::vector<Barycentric> barycentricSamples(int k) {
 
 void validate(const TriangleMeshView& mesh, const LimitDistanceOptions& options) {
   if (options.triangleSamples < 2 || options.limitSamples < 2 || options.seedSamples < 1 ||
-      options.spatialSeeds < 1 || options.spatialSeeds > kMaxSpatialSeeds) {
+      options.spatialSeeds < 1 || options.spatialSeeds > kMaxSpatialSeeds || !(options.everyDomainBeyond >= 0)) {
     throw std::invalid_argument(
-        "limit distance: K >= 2, S >= 2, seed samples >= 1, spatial seeds 1..16");
+        "limit distance: K >= 2, S >= 2, seed samples >= 1, spatial seeds 1..16, every-domain distance >= 0");
   }
   const size_t t = mesh.triangleCount(), v = mesh.positions.size();
   if (mesh.indices.size() != 3 * t) {
@@ -137,7 +137,8 @@ class MeshToLimit {
   }
 
   // The nearest limit point found for one sample. With `allSeeds`: Gauss-Newton to convergence
-  // from the parametric seed (if any) and from every kd-tree seed. Without (the first pass, an
+  // from the parametric seed (if any) and from every kd-tree seed, and from every domain when
+  // those leave it beyond options.everyDomainBeyond. Without (the first pass, an
   // upper bound): one Gauss-Newton step from the parametric seed, or convergence from the
   // nearest kd-tree seed when the triangle has no parameters.
   LimitPoint project(const Vec3d& p, const TriangleSeed& seed, const Barycentric& b,
@@ -157,6 +158,13 @@ class MeshToLimit {
       LimitPoint candidate =
           projectInDomain(surface_, p, spatial[i].domain, spatial[i].u, spatial[i].v, tolerance_);
       if (candidate.distance < best.distance) best = candidate;
+    }
+    if (allSeeds && best.distance > options_.everyDomainBeyond) {
+      for (int d = 0; d < surface_.domainCount(); ++d) {
+        const LimitPoint seed = seeds_.nearestIn(d, p);
+        const LimitPoint candidate = projectInDomain(surface_, p, d, seed.u, seed.v, tolerance_);
+        if (candidate.distance < best.distance) best = candidate;
+      }
     }
     return best;
   }

@@ -6,7 +6,8 @@
 //    corners excluded; each sample is projected onto the limit surface by Gauss-Newton inside a
 //    face domain (tests/support/limit_projection.h) from several seeds, the triangle's own
 //    parametric point when its parameters agree and the nearest limit samples of a kd-tree in up
-//    to `spatialSeeds` domains; its distance is the smallest reached. The maximum over samples.
+//    to `spatialSeeds` domains (and from every domain for a sample those leave farther than
+//    `everyDomainBeyond`); its distance is the smallest reached. The maximum over samples.
 //  - limit -> mesh: every domain is sampled on an S×S grid, border included; each sample's
 //    distance to the mesh is exact (an AABB tree and the point-triangle distance). The maximum.
 //
@@ -18,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "core/watertight_tessellator.h"
@@ -52,6 +54,10 @@ struct LimitDistanceOptions {
   int limitSamples = 16;    // S >= 2: samples per domain side, border included
   int seedSamples = 8;      // the kd-tree's limit samples per domain side (cell centres)
   int spatialSeeds = 6;     // domains (1..16) tried from the kd-tree for each mesh sample
+  // A mesh sample whose nearest limit point from those seeds is farther than this (object units)
+  // is projected again from every domain, each from its sample nearest to it: the seeds can all
+  // lie on other sheets where the surface folds back within a few samples' spacing.
+  double everyDomainBeyond = std::numeric_limits<double>::infinity();
 };
 
 struct SurfaceLocation {

@@ -173,4 +173,16 @@ int LimitSeedIndex::seeds(const Vec3d& p, int count, LimitPoint* out) const {
   return written;
 }
 
+LimitPoint LimitSeedIndex::nearestIn(int domain, const Vec3d& p) const {
+  const uint32_t perDomain = uint32_t(samplesPerSide_) * samplesPerSide_;
+  uint32_t best = uint32_t(domain) * perDomain;
+  double bestSquared = std::numeric_limits<double>::infinity();
+  for (uint32_t i = best; i < (uint32_t(domain) + 1) * perDomain; ++i) {
+    const float* x = &cloud_->xyz[3 * size_t(i)];
+    const double squared = (x[0] - p.x) * (x[0] - p.x) + (x[1] - p.y) * (x[1] - p.y) + (x[2] - p.z) * (x[2] - p.z);
+    if (squared < bestSquared) bestSquared = squared, best = i;
+  }
+  return sampleAt(best);
+}
+
 }  // namespace tessera::testing

@@ -43,6 +43,8 @@ class LimitSeedIndex {
   // Starting points near p: the nearest samples, at most one per domain (the nearest in it),
   // at most `count`, nearest first. Returns how many were written.
   int seeds(const Vec3d& p, int count, LimitPoint* out) const;
+  // The sample of `domain` nearest to p (every sample of the domain compared).
+  LimitPoint nearestIn(int domain, const Vec3d& p) const;
 
  private:
   struct Cloud;
