@@ -2,9 +2,9 @@
 // 4–15 vertices, 1–10 faces of 3–5 random corners (so faces that repeat a vertex, fold back along
 // an edge they left by, collapse an edge to a point, meet an edge twice, and non-manifold edges
 // and vertices), random holes, boundary rules and a crease. Every mesh Tessera accepts is
-// tessellated within ε of OpenSubdiv's limit surface, two-sided, at 1e-2 and 1e-3 of the diagonal. The
-// reference is Far's patch table of the input (Debian's Bfr 3.5.0 mis-evaluates, and once
-// crashes on, such input). docs/NONMANIFOLD.md has what 2,400 seeds give; this keeps the first
+// tessellated within ε of OpenSubdiv's limit surface, two-sided, at 1e-2 and 1e-3 of the
+// diagonal. The reference is Far's patch table of the input (Debian's Bfr 3.5.0 mis-evaluates,
+// and once crashes on, such input). docs/NONMANIFOLD.md has what 2,400 seeds give; this keeps the first
 // 400 at 1e-2 and 200 at 1e-3 for time.
 #include <gtest/gtest.h>
 
@@ -95,9 +95,9 @@ TEST(RandomTopology, EveryAcceptedMeshIsTessellatedWithinTolerance) { expectRand
 TEST(RandomTopology, EveryAcceptedMeshIsTessellatedWithinAFinerTolerance) { expectRandomMeshesWithinTolerance(1e-3, 200); }
 
 // Random mesh 1673 folds a face back on itself: from the kd-tree's seeds alone, one mesh sample
-// projects onto a farther sheet (1.29 ε). Projected from every domain, each of that triangle's
-// samples is no farther than it is from a dense sampling of the limit surface (an upper bound of
-// its true distance), and that bound is well below what the seeds alone found.
+// projects onto a farther sheet (1.29 ε). A dense sampling of the limit surface (an upper bound of
+// the true distance) puts that triangle's samples well nearer, and projected from every domain
+// the mesh measures within ε.
 TEST(RandomTopology, MeasureProjectsFromEveryDomainWhereTheSeedsMissAFoldedPocket) {
   constexpr double kRelative = 1e-2;
   const ControlMesh mesh = randomMesh(1673);
