@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <algorithm>
 #include <map>
 #include <set>
@@ -30,6 +29,7 @@
 #include "tests/support/far_patch_reference.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/limit_distance.h"
+#include "tests/support/mesh_equality.h"
 #include "tests/support/limit_surface.h"
 #include "tests/support/models.h"
 
@@ -456,15 +456,7 @@ TEST(Tessellation, TheMeshIsTheSameWhateverTheThreadCount) {
     TessellationResult serial;
     tbb::task_arena oneThread(1);
     oneThread.execute([&] { serial = tessellateAt(mesh, set, 1e-3); });
-    const TriangleMesh &a = parallel.mesh, &b = serial.mesh;
-    ASSERT_EQ(a.positions.size(), b.positions.size());
-    EXPECT_EQ(0, std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3)));
-    EXPECT_EQ(0, std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(Vec3)));
-    EXPECT_EQ(a.indices, b.indices);
-    EXPECT_EQ(a.trianglePiece, b.trianglePiece);
-    EXPECT_EQ(a.triangleST, b.triangleST);
-    EXPECT_EQ(a.vertexFace, b.vertexFace);
-    EXPECT_EQ(a.vertexUv, b.vertexUv);
+    EXPECT_EQ(testing::meshDifference(parallel.mesh, serial.mesh), "");
   }
 }
 

@@ -4,7 +4,6 @@
 // memory) leaves the CPU to do it, with the same result; copies get their original's position.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <limits>
 
 #include "core/adaptive_surface.h"
@@ -12,6 +11,7 @@
 #include "core/surface_evaluation.h"
 #include "core/tessellate.h"
 #include "core/vertex_evaluation.h"
+#include "tests/support/mesh_equality.h"
 #include "tests/support/models.h"
 
 namespace tessera {
@@ -42,21 +42,6 @@ class ReverseEvaluation : public VertexEvaluation {
   bool decline_;
 };
 
-bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
-
-void expectSameMesh(const TriangleMesh& a, const TriangleMesh& b) {
-  EXPECT_EQ(a.indices, b.indices);
-  EXPECT_TRUE(sameBits(a.positions, b.positions));
-  EXPECT_TRUE(sameBits(a.normals, b.normals));
-  EXPECT_EQ(a.vertexFace, b.vertexFace);
-  EXPECT_EQ(a.vertexSubFace, b.vertexSubFace);
-  EXPECT_EQ(a.vertexUv, b.vertexUv);
-  EXPECT_EQ(a.vertexPoint, b.vertexPoint);
-  EXPECT_EQ(a.triangleST, b.triangleST);
-}
-
 TEST(VertexEvaluation, AnEvaluationOfItsOwnOrOneThatDeclinesGivesTheCpuMesh) {
   // bigguy: extraordinary vertices, creases none; catmark_cube_creases2: crease copies (one
   // position, a normal per side).
@@ -74,7 +59,7 @@ TEST(VertexEvaluation, AnEvaluationOfItsOwnOrOneThatDeclinesGivesTheCpuMesh) {
       options.vertexEvaluation = &evaluation;
       const TessellationResult other = tessellate(patches, mesh, options);
       EXPECT_EQ(evaluation.calls, 1);
-      expectSameMesh(other.mesh, cpu.mesh);
+      EXPECT_EQ(testing::meshDifference(other.mesh, cpu.mesh), "");
     }
   }
 }
