@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -159,6 +161,38 @@ TEST(LimitDistanceTest, TrianglesOfAPlanarLimitSurfaceAreAtZero) {
   const LimitDistanceReport liftedReport = measureLimitDistance(surface, view);
   EXPECT_NEAR(liftedReport.meshToLimit, 0.375, 1e-9);
   EXPECT_NEAR(liftedReport.limitToMesh, 2 / std::sqrt(16.25), 1e-9);
+}
+
+// Options out of range are refused with a message naming the ranges, not measured with.
+TEST(LimitDistanceTest, RefusesOptionsOutOfRange) {
+  const LimitSurface surface(flatGrid(2));
+  const std::vector<Vec3> square = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
+  const std::vector<uint32_t> triangles = {0, 1, 2, 0, 2, 3};
+  testing::TriangleMeshView view;
+  view.positions = square;
+  view.indices = triangles;
+  auto refused = [&](const testing::LimitDistanceOptions& options) {
+    try {
+      measureLimitDistance(surface, view, options);
+    } catch (const std::invalid_argument& error) {
+      return std::string(error.what()).find("every-domain distance >= 0") != std::string::npos;
+    }
+    return false;
+  };
+  testing::LimitDistanceOptions options;
+  EXPECT_FALSE(refused(options));
+  options.everyDomainBeyond = 0;
+  EXPECT_FALSE(refused(options));
+  for (double beyond : {-1.0, std::nan("")}) {
+    options.everyDomainBeyond = beyond;
+    EXPECT_TRUE(refused(options)) << beyond;
+  }
+  options = {};
+  options.triangleSamples = 1;
+  EXPECT_TRUE(refused(options));
+  options = {};
+  options.spatialSeeds = 17;
+  EXPECT_TRUE(refused(options));
 }
 
 TEST(LimitDistanceTest, UniformTessellationIsWatertight) {
