@@ -1,89 +1,37 @@
-// Random control meshes, the topologies nobody models on purpose but uploads happen to contain:
-// 4–15 vertices, 1–10 faces of 3–5 random corners (so faces that repeat a vertex, fold back along
-// an edge they left by, collapse an edge to a point, meet an edge twice, and non-manifold edges
-// and vertices), random holes, boundary rules and a crease. Every mesh Tessera accepts is
-// tessellated within ε of OpenSubdiv's limit surface, two-sided, at 1e-2 and 1e-3 of the
-// diagonal. The reference is Far's patch table of the input (Debian's Bfr 3.5.0 mis-evaluates,
-// and once crashes on, such input). docs/NONMANIFOLD.md has what 2,400 seeds give; this keeps the first
-// 400 at 1e-2 and 200 at 1e-3 for time.
+// Random control meshes (tests/support/random_mesh.h: folds, collapsed edges, non-manifold edges
+// and vertices, holes, boundary rules, a crease): every mesh Tessera accepts is tessellated within
+// ε of OpenSubdiv's limit surface, two-sided, at 1e-2 and 1e-3 of the diagonal. The reference is
+// Far's patch table of the input (Debian's Bfr 3.5.0 mis-evaluates, and once crashes on, such
+// input). docs/NONMANIFOLD.md has what 2,400 seeds give (tools/random_topology); this keeps the
+// first 400 at 1e-2 and 200 at 1e-3 for time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <limits>
-#include <random>
 #include <vector>
 
-#include "core/error.h"
-#include "core/patch_set.h"
-#include "core/tessellate.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/limit_surface.h"
+#include "tests/support/random_mesh.h"
 
 namespace tessera {
 namespace {
 
-ControlMesh randomMesh(uint32_t seed) {
-  std::mt19937 random(seed);
-  ControlMesh mesh;
-  const int vertices = 4 + int(random() % 12);
-  for (int i = 0; i < vertices; ++i) {
-    mesh.positions.emplace_back(float(random() % 100) / 10, float(random() % 100) / 10, float(random() % 100) / 10);
-  }
-  const int faces = 1 + int(random() % 10);
-  for (int f = 0; f < faces; ++f) {
-    const int size = 3 + int(random() % 3);
-    mesh.faceSizes.push_back(size);
-    for (int k = 0; k < size; ++k) mesh.faceVertices.push_back(int(random() % uint32_t(vertices)));
-  }
-  if (random() % 3 == 0) mesh.holes.push_back(int(random() % uint32_t(faces)));
-  if (random() % 4 == 0) mesh.rules.boundary = BoundaryInterpolation::kEdgeAndCorner;
-  if (random() % 3 == 0) {
-    const int f = int(random() % uint32_t(faces));
-    int first = 0;
-    for (int g = 0; g < f; ++g) first += mesh.faceSizes[g];
-    const int a = mesh.faceVertices[first], b = mesh.faceVertices[first + 1];
-    if (a != b) mesh.creases.push_back({a, b, float(random() % 30) / 2});
-  }
-  return mesh;
-}
-
-TessellationResult tessellateRandom(const ControlMesh& mesh, double relative) {
-  validateControlMesh(mesh);
-  const PatchSet patches = buildPatchSet(mesh);
-  TessellationOptions options;
-  options.accuracy = Accuracy::relative(relative);
-  options.recordParameters = true;
-  return tessellate(patches, mesh, options);
-}
-
 // Seeds [0, count) at `relative`: every mesh Tessera accepts is within ε of Far's limit surface,
-// two-sided. A mesh sample the kd-tree's seeds leave over ε is projected from every domain
-// (folded faces put sheets of surface within a sample spacing of each other).
+// two-sided (testing::checkRandomMesh).
 void expectRandomMeshesWithinTolerance(double relative, uint32_t count) {
   int measured = 0, refused = 0, empty = 0;
   for (uint32_t seed = 0; seed < count; ++seed) {
     SCOPED_TRACE("random mesh " + std::to_string(seed));
-    const ControlMesh mesh = randomMesh(seed);
-    TessellationResult result;
-    try {
-      result = tessellateRandom(mesh, relative);
-    } catch (const TesseraError&) {
-      ++refused;
-      continue;
-    }
-    if (result.mesh.triangleCount() == 0) {
-      ++empty;  // every face a hole
-      continue;
-    }
-    const testing::LimitSurface far(mesh, testing::LimitSurface::Backend::kFar);
-    const double tolerance = (relative + testing::LimitSurface::kRelativeAccuracy) * far.diagonal();
-    testing::LimitDistanceOptions options;
-    options.everyDomainBeyond = tolerance;
-    const testing::LimitDistanceReport report = testing::measureLimitDistance(far, testing::viewOf(result.mesh), options);
-    EXPECT_LE(report.twoSided(), tolerance) << "at face " << report.twoSidedAt().face << "/"
-                                            << report.twoSidedAt().subFace << " (" << report.twoSidedAt().u << ", "
-                                            << report.twoSidedAt().v << ")";
+    const testing::RandomMeshCheck check = testing::checkRandomMesh(seed, relative);
+    refused += !check.refused.empty();
+    empty += check.empty;
+    if (!check.measured()) continue;
+    const testing::LimitDistanceReport& report = check.report;
+    EXPECT_LE(report.twoSided(), check.tolerance) << "at face " << report.twoSidedAt().face << "/"
+                                                  << report.twoSidedAt().subFace << " (" << report.twoSidedAt().u
+                                                  << ", " << report.twoSidedAt().v << ")";
     ++measured;
   }
   std::printf("%d random meshes measured at %g, %d refused, %d all holes\n", measured, relative, refused, empty);
@@ -100,8 +48,8 @@ TEST(RandomTopology, EveryAcceptedMeshIsTessellatedWithinAFinerTolerance) { expe
 // the mesh measures within ε.
 TEST(RandomTopology, MeasureProjectsFromEveryDomainWhereTheSeedsMissAFoldedPocket) {
   constexpr double kRelative = 1e-2;
-  const ControlMesh mesh = randomMesh(1673);
-  const TessellationResult result = tessellateRandom(mesh, kRelative);
+  const ControlMesh mesh = testing::randomMesh(1673);
+  const TessellationResult result = testing::tessellateRandom(mesh, kRelative);
   const testing::LimitSurface far(mesh, testing::LimitSurface::Backend::kFar);
   const double epsilon = kRelative * far.diagonal();
   const testing::LimitDistanceReport seedsOnly = testing::measureLimitDistance(far, testing::viewOf(result.mesh));
