@@ -3,7 +3,6 @@
 // EV-bottom leaves, creases, holes, non-manifold sheets), and the paper's characters at 1e-3.
 #pragma once
 
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -49,19 +48,6 @@ inline TessellationOptions vertexCaseOptions(double tolerance, VertexEvaluation*
   options.maxTriangles = 100'000'000;
   options.vertexEvaluation = evaluation;
   return options;
-}
-
-// Index of the first vertex whose position or normal differs in any bit, -1 if none; the vertex
-// count when the meshes differ in size or triangles.
-inline long firstVertexDifference(const TriangleMesh& a, const TriangleMesh& b) {
-  if (a.positions.size() != b.positions.size() || a.indices != b.indices) return long(a.positions.size());
-  for (size_t i = 0; i < a.positions.size(); ++i) {
-    if (std::memcmp(&a.positions[i], &b.positions[i], sizeof(Vec3)) != 0 ||
-        std::memcmp(&a.normals[i], &b.normals[i], sizeof(Vec3)) != 0) {
-      return long(i);
-    }
-  }
-  return -1;
 }
 
 }  // namespace tessera::cuda::testing

@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/cuda/vertex_cases.h"
+#include "tests/support/mesh_equality.h"
 
 namespace tessera::cuda {
 namespace {
@@ -28,7 +29,7 @@ void expectDeviceMatchesCpu(const testing::VertexCase& c) {
   CudaVertexEvaluation evaluation(surface);
   const TessellationResult cpu = tessellate(patches, mesh, testing::vertexCaseOptions(c.tolerance, nullptr));
   const TessellationResult gpu = tessellate(patches, mesh, testing::vertexCaseOptions(c.tolerance, &evaluation));
-  EXPECT_EQ(testing::firstVertexDifference(gpu.mesh, cpu.mesh), -1)
+  EXPECT_EQ(tessera::testing::meshDifference(gpu.mesh, cpu.mesh), "")
       << tessera::testing::baseName(c.path) << " at " << c.tolerance << " (" << cpu.mesh.positions.size()
       << " vertices)";
 }

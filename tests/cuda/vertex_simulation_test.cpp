@@ -15,6 +15,7 @@
 #include "gpu/cuda/surface_upload.h"
 #include "gpu/cuda/vertex_threads.h"
 #include "tests/cuda/vertex_cases.h"
+#include "tests/support/mesh_equality.h"
 
 namespace tessera::cuda {
 namespace {
@@ -55,7 +56,7 @@ void expectSimulationMatchesCpu(const testing::VertexCase& c) {
   const TessellationResult cpu = tessellate(patches, mesh, testing::vertexCaseOptions(c.tolerance, nullptr));
   const TessellationResult kernel = tessellate(patches, mesh, testing::vertexCaseOptions(c.tolerance, &simulated));
   EXPECT_EQ(simulated.calls, 1) << c.path;
-  EXPECT_EQ(testing::firstVertexDifference(kernel.mesh, cpu.mesh), -1)
+  EXPECT_EQ(tessera::testing::meshDifference(kernel.mesh, cpu.mesh), "")
       << tessera::testing::baseName(c.path) << " at " << c.tolerance << " (" << cpu.mesh.positions.size()
       << " vertices)";
 }
