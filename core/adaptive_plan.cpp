@@ -11,6 +11,7 @@
 #include "core/dyadic.h"
 #include "core/edge_curvature.h"
 #include "core/parallel_chunks.h"
+#include "core/tile_rectangles.h"
 #include "core/tolerance_model.h"
 
 namespace tessera {
@@ -511,6 +512,7 @@ void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
   conservative_ = false, merging_ = true;
   Candidate top = realCandidate({tree_.roots[root].node, 0, 0, 0});
   plan(top, gridFor(top), out);
+  mergeRectangles(tree_, top.real, out);
 }
 
 void Planner::planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::vector<Tile>& out) const {

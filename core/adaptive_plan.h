@@ -31,7 +31,8 @@ struct Tile {
   // Four sibling one-cell tiles (or cell-wise tiles of one rate) merged: ru = rv = 2^k cells,
   // each triangulated as the one-cell tile it was, its sides keeping their own points; `bound`
   // is the largest of theirs, and when pending, "points beside its corners" means points beside
-  // its own grid points (docs/ADAPTIVE.md §6).
+  // its own grid points (docs/ADAPTIVE.md §6). In the flattened plan also a rectangle of any
+  // ru × rv (spanU, spanV below).
   bool cellwise = false;
   // A one-cell tile whose bound holds only split along one diagonal (SurfaceNode::pairDiagonal):
   // 0 any, 1 + d diagonal d (0: corners 0–2, 1: corners 1–3); a cell-wise tile's cells all keep
@@ -46,8 +47,28 @@ struct Tile {
   // neighbours do. Only the flattened plan has these; sub-face 0's tile emits the triangles.
   uint8_t faceTriangle = 0;
   bool faceMiddles = false;
+  // A dyadic rectangle of 2^spanU × 2^spanV squares of `level` from square (ix, iy) (aligned:
+  // ix a multiple of 2^spanU, iy of 2^spanV): cell-wise tiles of one size and rates merged side
+  // by side (core/tile_rectangles.h). Only the flattened plan has these; 0 is one square.
+  uint8_t spanU = 0, spanV = 0;
 
-  double size() const { return exp2i(-level); }
+  // Extent along u and v, and one past the last square along each (squares of `level`).
+  double width() const { return exp2i(int(spanU) - level); }
+  double height() const { return exp2i(int(spanV) - level); }
+  uint64_t ixEnd() const { return ix + (uint64_t(1) << spanU); }
+  uint64_t iyEnd() const { return iy + (uint64_t(1) << spanV); }
+  // Side k's level and its index along its axis at that level (k = 0, 2 along u; 1, 3 along v).
+  int levelAlong(int k) const { return level - int(k == 0 || k == 2 ? spanU : spanV); }
+  uint64_t indexAlong(int k) const { return k == 0 || k == 2 ? ix >> spanU : iy >> spanV; }
+  // Side k's own points that every line keeps, as the intervals they cut it into (docs/ADAPTIVE.md
+  // §7): every cell's for a strip's long side and a cell-wise tile (triangulated cell by cell),
+  // else its ends and, for a rectangle of grid tiles, the corners of the squares it was made of.
+  int keptIntervals(int k) const {
+    const bool alongU = k == 0 || k == 2;
+    const int cells = alongU ? ru : rv;
+    if (cellwise || (ru == 1) != (rv == 1)) return cells;
+    return 1 << (alongU ? spanU : spanV);
+  }
   // A pending tile's bound once it is known which sides get points beside its own (bit k: side k).
   float boundWithPoints(uint8_t sides) const {
     float bow = 0;
@@ -62,7 +83,7 @@ struct Tile {
   // Whether side k (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0) lies on its root's side k.
   bool onRootSide(int k) const {
     const uint64_t end = uint64_t(1) << level;
-    return k == 0 ? iy == 0 : k == 1 ? ix + 1 == end : k == 2 ? iy + 1 == end : ix == 0;
+    return k == 0 ? iy == 0 : k == 1 ? ixEnd() == end : k == 2 ? iyEnd() == end : ix == 0;
   }
 };
 

@@ -173,7 +173,6 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
     const SurfaceRoot& root = surface.tree.roots[tileRoot[tileIndex]];
     mesh.triangleFace[t] = root.baseFace, mesh.triangleSubFace[t] = root.subFace;
     if (tile.faceTriangle) return faceTriangleParameters(stitching, tileIndex, &mesh.indices[3 * t], &mesh.triangleST[6 * t]);
-    const double size = tile.size();
     const uint32_t gridFirst = stitching.gridFirst[tileIndex];
     const uint32_t gridCount = uint32_t((tile.ru - 1) * (tile.rv - 1));
     for (int k = 0; k < 3; ++k) {
@@ -194,8 +193,8 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
           break;
         }
       }
-      mesh.triangleST[6 * t + 2 * k] = (double(tile.ix) + x) * size;
-      mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.iy) + y) * size;
+      mesh.triangleST[6 * t + 2 * k] = (double(tile.ix >> tile.spanU) + x) * tile.width();
+      mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.iy >> tile.spanV) + y) * tile.height();
     }
   });
 }

@@ -52,7 +52,7 @@ Vec3d closestOnSegment(const Vec3d& p, const Vec3d& a, const Vec3d& b) {
 line_points::LineUse faceEdgeUse(const Tile& tile, uint32_t t, const SideLine& line) {
   line_points::LineUse use;
   use.cells = tile.faceMiddles ? 2 : 1;
-  use.rigid = tile.faceMiddles;
+  use.kept = use.cells;
   use.a = line.origin * use.cells, use.sign = line.sign, use.exp = 0;
   use.tile = t, use.side = 0;
   use.t0 = 0, use.t1 = kLineScale;
@@ -164,7 +164,7 @@ int FaceTriangles::neighbourMiddles(const AdaptivePlan& plan, const AdaptiveSurf
         const Tile& tile = plan.tiles[t];
         if (!tile.onRootSide(rootSide)) continue;
         const int cells = rootSide == 0 || rootSide == 2 ? tile.ru : tile.rv;
-        const double span = tile.size() / halves;  // of the line, exact
+        const double span = (rootSide == 0 || rootSide == 2 ? tile.width() : tile.height()) / halves;  // exact
         if (span == 1 && cells <= 2) {
           middles |= (cells == 2) << k;
         } else if (span == 0.5 && cells == 1) {

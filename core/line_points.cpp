@@ -29,7 +29,7 @@ void stableSortUses(std::vector<uint32_t>& order, const std::vector<Int>& key) {
   }
 }
 
-// One stretch of a line (resolveLine): its uses' ends and rigid sides' own points, then for each
+// One stretch of a line (resolveLine): its uses' ends and kept own points, then for each
 // use, densest first, its own points wherever two neighbouring points are farther apart than its
 // cell (so that no side sees a gap wider than its cells, tile_stitching.h). Appends the points
 // after those already in out.points, the stretch's start (an end both share) once.
@@ -44,10 +44,8 @@ void resolveStretch(const LineUse* uses, const uint32_t* members, size_t count, 
     sameSpan &= out.lo[i] == out.lo[head] && out.hi[i] == out.hi[head];
     if (out.cell[i] < out.cell[densest]) densest = i;
   }
-  // A rigid side's own points are among the densest side's when its cells divide them.
-  for (size_t m = 0; m < count && sameSpan; ++m) {
-    sameSpan = !uses[members[m]].rigid || uses[densest].cells % uses[members[m]].cells == 0;
-  }
+  // A side's kept points are among the densest side's when their intervals divide its cells.
+  for (size_t m = 0; m < count && sameSpan; ++m) sameSpan = uses[densest].cells % uses[members[m]].kept == 0;
   if (sameSpan) {
     // Sides over one stretch (the common seam, or a boundary of the surface): the densest one's
     // points, which is what the rule comes to.
@@ -57,7 +55,8 @@ void resolveStretch(const LineUse* uses, const uint32_t* members, size_t count, 
       const uint32_t i = members[m];
       points.push_back(out.lo[i]);
       points.push_back(out.hi[i]);
-      for (int k = 1; uses[i].rigid && k < uses[i].cells; ++k) points.push_back(out.lo[i] + k * out.cell[i]);
+      const int every = uses[i].cells / uses[i].kept;
+      for (int k = every; k < uses[i].cells; k += every) points.push_back(out.lo[i] + k * out.cell[i]);
     }
     std::sort(points.begin(), points.end());
     points.erase(std::unique(points.begin(), points.end()), points.end());

@@ -26,7 +26,9 @@ inline long double toLongDouble(Int x) { return fits64(x) ? (long double)int64_t
 struct LineUse {
   Int a = 0;
   int sign = 1, cells = 1, exp = 0;
-  bool rigid = false;
+  // Its own points at multiples of 1/kept of the side are kept whatever the other sides do (1:
+  // its ends only; cells: every one, a side that keeps its own points).
+  int kept = 1;
   uint32_t tile = 0;
   uint8_t side = 0;
   int64_t t0 = 0, t1 = 0;  // on a base edge or spoke: its span there, scale kLineScale

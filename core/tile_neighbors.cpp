@@ -78,8 +78,11 @@ void TileNeighbors::reindex(uint32_t root) {
   std::vector<Entry>& entries = entries_[root];
   entries.clear();
   for (uint32_t t = 0; t < tiles_[root].size(); ++t) {
+    // A rectangle (core/tile_rectangles.h) under each of its squares.
     const Tile& tile = tiles_[root][t];
-    entries.push_back({tile.level, tile.ix, tile.iy, t});
+    for (uint64_t iy = tile.iy; iy < tile.iyEnd(); ++iy) {
+      for (uint64_t ix = tile.ix; ix < tile.ixEnd(); ++ix) entries.push_back({tile.level, ix, iy, t});
+    }
   }
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
     return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
@@ -108,15 +111,15 @@ bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uin
   const Tile& n = tiles_[root][t];
   const bool alongU = side == 0 || side == 2;
   const int cells = alongU ? n.ru : n.rv;
-  const int64_t sideLength = corner(n.level, 1);
+  const int64_t sideLength = corner(n.levelAlong(side), 1);
   // Its cell, sideLength / cells, against our side, b − a.
   if (__int128(sideLength) < __int128(b - a) * cells) return true;
-  const bool keepsOwnPoints = (n.ru == 1) != (n.rv == 1) || n.cellwise;
-  if (!keepsOwnPoints || cells == 1) return false;
-  // The first own point past a: positions (i·cells + j)·sideLength/cells of its side.
-  const int64_t origin = corner(n.level, alongU ? n.ix : n.iy);
-  const __int128 j = (__int128(a - origin) * cells) / sideLength + 1;
-  return j < cells && __int128(origin) * cells + j * sideLength < __int128(b) * cells;
+  // The first point it keeps past a: at origin + j·sideLength/kept.
+  const int kept = n.keptIntervals(side);
+  if (kept == 1) return false;
+  const int64_t origin = corner(n.levelAlong(side), n.indexAlong(side));
+  const __int128 j = (__int128(a - origin) * kept) / sideLength + 1;
+  return j < kept && __int128(origin) * kept + j * sideLength < __int128(b) * kept;
 }
 
 bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) const {

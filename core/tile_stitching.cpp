@@ -66,9 +66,8 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
   LineUse use;
   const bool alongU = k == 0 || k == 2;
   use.cells = alongU ? tile.ru : tile.rv;
-  use.exp = tile.level;
-  // A strip's long side, or any side of a cell-wise tile: it keeps its own points.
-  use.rigid = (((tile.ru == 1) != (tile.rv == 1)) || tile.cellwise) && use.cells > 1;
+  use.exp = tile.levelAlong(k);
+  use.kept = tile.keptIntervals(k);
   use.tile = t;
   use.side = uint8_t(k);
   return use;
@@ -76,23 +75,27 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
 
 // The point at `along` (0..1) of side k of a tile, in root coordinates.
 void sidePoint(const Tile& tile, int k, double along, double& u, double& v) {
-  const double s = tile.size();
+  const double x = double(tile.ix >> tile.spanU), y = double(tile.iy >> tile.spanV);
   const bool alongU = k == 0 || k == 2;
-  u = alongU ? (double(tile.ix) + along) * s : (double(tile.ix) + (k == 1)) * s;
-  v = alongU ? (double(tile.iy) + (k == 2)) * s : (double(tile.iy) + along) * s;
+  u = (alongU ? x + along : x + (k == 1)) * tile.width();
+  v = (alongU ? y + (k == 2) : y + along) * tile.height();
 }
+
+// A tile's corner c (0..3, counter-clockwise from (ix, iy)) in root coordinates.
+int64_t cornerX(const Tile& tile, uint32_t c) { return at(tile.level, c == 1 || c == 2 ? tile.ixEnd() : tile.ix); }
+int64_t cornerY(const Tile& tile, uint32_t c) { return at(tile.level, c >= 2 ? tile.iyEnd() : tile.iy); }
 
 // Tile t's side on its root's boundary through its corner (x, y), as side 4t + k, and which end.
 uint32_t boundarySideEnd(const Tile& tile, uint32_t t, int64_t x, int64_t y, uint8_t& end) {
   int k;
   if (y == 0) {
-    k = 0, end = x != at(tile.level, tile.ix);
+    k = 0, end = x != cornerX(tile, 0);
   } else if (x == kRootScale) {
-    k = 1, end = y != at(tile.level, tile.iy);
+    k = 1, end = y != cornerY(tile, 0);
   } else if (y == kRootScale) {
-    k = 2, end = x != at(tile.level, tile.ix);
+    k = 2, end = x != cornerX(tile, 0);
   } else {
-    k = 3, end = y != at(tile.level, tile.iy);
+    k = 3, end = y != cornerY(tile, 0);
   }
   return 4 * t + uint32_t(k);
 }
@@ -158,7 +161,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     for (uint32_t c = 0; c < 4; ++c) {
-      const int64_t x = at(tile.level, tile.ix + (c == 1 || c == 2)), y = at(tile.level, tile.iy + (c >= 2));
+      const int64_t x = cornerX(tile, c), y = cornerY(tile, c);
       if (x > 0 && x < kRootScale && y > 0 && y < kRootScale) a.inner.push_back({x, y, 4 * (t - first) + c});
     }
   }
@@ -186,13 +189,14 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
         continue;
       }
       LineUse use = sideUse(tile, t, k);
-      const uint64_t along = k == 0 || k == 2 ? tile.ix : tile.iy;
-      use.a = (Int(line.origin) * use.cells << (tile.level + d)) + line.sign * Int(along) * use.cells;
+      const int level = tile.levelAlong(k);
+      const uint64_t along = tile.indexAlong(k);
+      use.a = (Int(line.origin) * use.cells << (level + d)) + line.sign * Int(along) * use.cells;
       use.sign = line.sign;
-      use.exp = tile.level + d;
+      use.exp = level + d;
       const int64_t origin = line.origin ? kLineScale : 0, scale = line.halves == 1 ? 2 : 1;
-      use.t0 = origin + line.sign * scale * at(tile.level, along);
-      use.t1 = origin + line.sign * scale * at(tile.level, along + 1);
+      use.t0 = origin + line.sign * scale * at(level, along);
+      use.t1 = origin + line.sign * scale * at(level, along + 1);
       if (use.t1 < use.t0) std::swap(use.t0, use.t1);
       a.boundaryUses.push_back(use);
     }
@@ -206,10 +210,10 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
     for (int k = 0; k < 4; ++k) {
       if (tile.onRootSide(k)) continue;
       LineUse use = sideUse(tile, t, k);
-      use.a = Int(k == 0 || k == 2 ? tile.ix : tile.iy) * use.cells;
-      const uint64_t fixedIndex = k == 0 ? tile.iy : k == 1 ? tile.ix + 1 : k == 2 ? tile.iy + 1 : tile.ix;
+      use.a = Int(tile.indexAlong(k)) * use.cells;
+      const int64_t fixed = k == 0 ? cornerY(tile, 0) : k == 1 ? cornerX(tile, 1) : k == 2 ? cornerY(tile, 2) : cornerX(tile, 0);
       const uint64_t axis = k == 0 || k == 2 ? 1 : 0;
-      a.innerKeys.push_back({axis << 63 | uint64_t(at(tile.level, fixedIndex)), uint32_t(a.innerUses.size())});
+      a.innerKeys.push_back({axis << 63 | uint64_t(fixed), uint32_t(a.innerUses.size())});
       a.innerUses.push_back(use);
     }
   }
@@ -223,10 +227,11 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     gridLocal_[t] = uint32_t(a.locals.size()) - slice.localsFrom;
-    const double s = tile.size();
+    const double x = double(tile.ix >> tile.spanU), y = double(tile.iy >> tile.spanV);
+    const double w = tile.width(), h = tile.height();
     for (int j = 1; j < tile.rv; ++j) {
       for (int i = 1; i < tile.ru; ++i) {
-        a.locals.push_back({t, (double(tile.ix) + double(i) / tile.ru) * s, (double(tile.iy) + double(j) / tile.rv) * s, 0});
+        a.locals.push_back({t, (x + double(i) / tile.ru) * w, (y + double(j) / tile.rv) * h, 0});
       }
     }
   }
@@ -269,7 +274,7 @@ void Stitcher::resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a)
       if (id != UINT32_MAX) {
         point.id = id;
       } else {
-        const int64_t along = at(tile.level, (axis == 1 ? tile.ix : tile.iy) + high);
+        const int64_t along = axis == 1 ? cornerX(tile, high) : cornerY(tile, 3 * high);
         const int64_t x = axis == 1 ? along : fixed, y = axis == 1 ? fixed : along;
         point.kind = Ref::kSideEnd;
         point.id = boundarySideEnd(plan_.tiles[t], t, x, y, point.end);
@@ -338,8 +343,8 @@ void Stitcher::resolveBoundaryLine(uint32_t l, Arena& a) {
   writeBoundaryLine(l, a);
 }
 
-// The common seam: every side on the line spans all of it (and a rigid side's cells divide the
-// densest's), so its points are the densest side's, k/cells for k = 0..cells (resolveLine's rule
+// The common seam: every side on the line spans all of it (and a side's kept intervals divide the
+// densest's cells), so its points are the densest side's, k/cells for k = 0..cells (resolveLine's rule
 // comes to that), the ends are its nodes and each end is named by the lowest tile; the first side
 // on the line evaluates the own points. Returns false for any other line.
 bool Stitcher::resolveUniformLine(uint32_t l, Arena& a) {
@@ -353,7 +358,7 @@ bool Stitcher::resolveUniformLine(uint32_t l, Arena& a) {
     if (use.tile < uses[lowest].tile) lowest = u;
   }
   for (const LineUse& use : uses) {
-    if (use.rigid && cells % use.cells != 0) return false;
+    if (cells % use.kept != 0) return false;
   }
   const SeamLines::Line& line = lines_.lines[l];
   LineRecord& record = records_[l];
@@ -466,8 +471,8 @@ int Stitcher::boundaryQualifier(const LineUse& use, const SeamLines::Line& line,
     const Tile& tile = plan_.tiles[use.tile];
     const int k = use.side;
     const bool high = along == 1;
-    const int64_t x = at(tile.level, tile.ix + ((k == 1) || ((k == 0 || k == 2) && high) ? 1 : 0));
-    const int64_t y = at(tile.level, tile.iy + ((k == 2) || ((k == 1 || k == 3) && high) ? 1 : 0));
+    const uint32_t c = sideEndCorner(k, high);
+    const int64_t x = cornerX(tile, c), y = cornerY(tile, c);
     if ((x == 0 || x == kRootScale) && (y == 0 || y == kRootScale)) {
       const int c = x == 0 ? (y == 0 ? 0 : 3) : (y == 0 ? 1 : 2);
       return lines_.cornerQualifier[4 * size_t(root) + c];

@@ -280,46 +280,49 @@ void stripTile(const Stitching& stitching, size_t t, const Tile& tile, TileTrian
   }
 }
 
-// A cell-wise tile (adaptive_plan.h): its sides hold their own points c/r exactly (r = ru = rv),
-// so each cell is the polygon of its corners (inner grid points or side points) and the side
-// points between them, triangulated as the one-cell tile it was; chains in cell coordinates.
+// A cell-wise tile (adaptive_plan.h): its sides hold their own points exactly (c/ru along u,
+// c/rv along v), so each cell is the polygon of its corners (inner grid points or side points)
+// and the side points between them, triangulated as the one-cell tile it was; chains in cell
+// coordinates.
 void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTriangles& out) {
-  const int r = tile.ru;
+  const int ru = tile.ru, rv = tile.rv;
   Chain sides[4];
-  SmallVector<size_t, 65> start[4];  // start[k][c]: the index of point c/r on side k
+  SmallVector<size_t, 65> start[4];  // start[k][c]: the index of point c/cells on side k
   for (int k = 0; k < 4; ++k) {
     sides[k] = sideChain(stitching, t, k);
+    const int cells = k == 0 || k == 2 ? ru : rv;
     size_t p = 0;
-    for (int c = 0; c <= r; ++c) {
-      const double at = double(c) / r;
+    for (int c = 0; c <= cells; ++c) {
+      const double at = double(c) / cells;
       while (p + 1 < sides[k].size() && sides[k][p].at < at) ++p;
       start[k].push_back(p);
     }
   }
-  auto grid = [&](int i, int j) { return out.gridFirst() + uint32_t((j - 1) * (r - 1) + (i - 1)); };
+  auto grid = [&](int i, int j) { return out.gridFirst() + uint32_t((j - 1) * (ru - 1) + (i - 1)); };
   auto lattice = [&](int i, int j) -> uint32_t {
     if (j == 0) return sides[0][start[0][i]].vertex;
-    if (j == r) return sides[2][start[2][i]].vertex;
+    if (j == rv) return sides[2][start[2][i]].vertex;
     if (i == 0) return sides[3][start[3][j]].vertex;
-    if (i == r) return sides[1][start[1][j]].vertex;
+    if (i == ru) return sides[1][start[1][j]].vertex;
     return grid(i, j);
   };
   // Side k's points over cell c, increasing, with coordinates along the cell.
   auto piece = [&](int k, int c) {
+    const int cells = k == 0 || k == 2 ? ru : rv;
     Chain chain;
     for (size_t p = start[k][c]; p <= start[k][c + 1]; ++p) {
       const ChainPoint& q = sides[k][p];
-      chain.push_back({q.vertex, q.at * r - c, q.back * r - (r - 1 - c)});
+      chain.push_back({q.vertex, q.at * cells - c, q.back * cells - (cells - 1 - c)});
     }
     return chain;
   };
   auto segment = [](uint32_t a, uint32_t b) { return Chain{{a, 0, 1}, {b, 1, 0}}; };
-  for (int j = 0; j < r; ++j) {
-    for (int i = 0; i < r; ++i) {
+  for (int j = 0; j < rv; ++j) {
+    for (int i = 0; i < ru; ++i) {
       Chain cell[4];
       cell[0] = j == 0 ? piece(0, i) : segment(lattice(i, j), lattice(i + 1, j));
-      cell[1] = i + 1 == r ? piece(1, j) : segment(lattice(i + 1, j), lattice(i + 1, j + 1));
-      cell[2] = reversed(j + 1 == r ? piece(2, i) : segment(lattice(i, j + 1), lattice(i + 1, j + 1)));
+      cell[1] = i + 1 == ru ? piece(1, j) : segment(lattice(i + 1, j), lattice(i + 1, j + 1));
+      cell[2] = reversed(j + 1 == rv ? piece(2, i) : segment(lattice(i, j + 1), lattice(i + 1, j + 1)));
       cell[3] = reversed(i == 0 ? piece(3, j) : segment(lattice(i, j), lattice(i, j + 1)));
       triangulateCell(cell, out, tile.cellDiagonal(i, j));
     }

@@ -335,7 +335,7 @@ TEST(AdaptiveTessellation, GridTilesAreWithinTheirBoundAtEqualParameters) {
     }
     for (const Tile& tile : layout.plan.tiles) {
       const SurfaceNode& node = tree.nodes[tile.node.node];
-      if (tile.ru < 2 || tile.rv < 2 || tile.cellwise) continue;
+      if (tile.ru < 2 || tile.rv < 2 || tile.cellwise || tile.spanU || tile.spanV) continue;
       if (node.kind != NodeKind::kRegularLeaf && node.kind != NodeKind::kFasLeaf) continue;
       const BezierNet net = squareNet(tree, set, tile.node, tile.level, tile.ix, tile.iy);
       tighterThanCurvature += tile.bound < 0.95 * interpolationBound(netCurvature(net.data()), 1.0 / tile.ru, 1.0 / tile.rv);
@@ -476,7 +476,10 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
   for (const Tile& tile : layout.plan.tiles) {
     if (!tile.cellwise) continue;
     ++cellwise;
-    EXPECT_EQ(tile.ru, tile.rv);
+    // The planner's are squares of 2^k × 2^k cells; rectangles (core/tile_rectangles.h) any.
+    if (tile.spanU == 0 && tile.spanV == 0) {
+      EXPECT_EQ(tile.ru, tile.rv);
+    }
     EXPECT_LE(tile.bound, tile.tolerance);
   }
   EXPECT_GT(cellwise, 100u);
@@ -487,8 +490,8 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
     // fractions of a power of two up to rounding).
     double u[3], v[3];
     for (int k = 0; k < 3; ++k) {
-      u[k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.size() - double(tile.ix)) * tile.ru;
-      v[k] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.size() - double(tile.iy)) * tile.rv;
+      u[k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.ix >> tile.spanU)) * tile.ru;
+      v[k] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.iy >> tile.spanV)) * tile.rv;
     }
     const double cu = std::floor((u[0] + u[1] + u[2]) / 3), cv = std::floor((v[0] + v[1] + v[2]) / 3);
     // ... and lie on its sides, as docs/ADAPTIVE.md §3 asks of a one-cell triangulation.
@@ -520,8 +523,8 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEachCellsDiagonal) {
     if (!tile.cellDiagonals) continue;
     std::array<double, 6> st;
     for (int k = 0; k < 3; ++k) {
-      st[2 * k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.size() - double(tile.ix)) * tile.ru;
-      st[2 * k + 1] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.size() - double(tile.iy)) * tile.rv;
+      st[2 * k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.ix >> tile.spanU)) * tile.ru;
+      st[2 * k + 1] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.iy >> tile.spanV)) * tile.rv;
     }
     corners[piece].push_back(st);
   }

@@ -59,11 +59,15 @@ double edgeOverCurvature(const SurfaceTree& tree, const PatchSet& patches, const
 // Where in its root a point of the tile at (a, b) ∈ [0, 1]² lies.
 struct TileFrame {
   NodeSquare root;
-  double u0, v0, s;
+  double u0, v0, w, h;
   TileFrame(const NodeSquare& r, const Tile& tile)
-      : root(r), u0(double(tile.ix) * tile.size()), v0(double(tile.iy) * tile.size()), s(tile.size()) {}
+      : root(r),
+        u0(double(tile.ix >> tile.spanU) * tile.width()),
+        v0(double(tile.iy >> tile.spanV) * tile.height()),
+        w(tile.width()),
+        h(tile.height()) {}
   Vec3d at(SurfaceEvaluator& evaluator, double a, double b) const {
-    return evaluator.evaluate(root, u0 + s * a, v0 + s * b).position;
+    return evaluator.evaluate(root, u0 + w * a, v0 + h * b).position;
   }
 };
 
@@ -168,7 +172,8 @@ int run(const char* path, double relative) {
     const NodeSquare root{tree.roots[r].node, 0, 0, 0};
     for (uint32_t t = layout.plan.rootFirstTile[r]; t < layout.plan.rootFirstTile[r + 1]; ++t) {
       const Tile& tile = layout.plan.tiles[t];
-      if (tile.ru * tile.rv < 2 || tile.cellwise || tree.nodes[tile.node.node].evCorners != 0) continue;
+      // A rectangle's rates are over several squares: §2a's ratio below is per square.
+      if (tile.ru * tile.rv < 2 || tile.cellwise || tile.spanU || tile.spanV || tree.nodes[tile.node.node].evCorners != 0) continue;
       const TileFrame frame(root, tile);
       const double measured = measuredDistance(evaluator, output, rootTriangles[r], frame, tile);
       if (!(measured > 0)) continue;
