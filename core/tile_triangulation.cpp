@@ -317,8 +317,24 @@ void cellwiseTile(const Stitching& stitching, size_t t, const Tile& tile, TileTr
     return chain;
   };
   auto segment = [](uint32_t a, uint32_t b) { return Chain{{a, 0, 1}, {b, 1, 0}}; };
+  // Whether side k's piece over cell c holds only the cell's corners.
+  auto bare = [&](int k, int c) { return start[k][c + 1] - start[k][c] == 1; };
   for (int j = 0; j < rv; ++j) {
     for (int i = 0; i < ru; ++i) {
+      if ((j > 0 || bare(0, i)) && (i + 1 < ru || bare(1, j)) && (j + 1 < rv || bare(2, i)) && (i > 0 || bare(3, j))) {
+        // No points but its corners (every inner cell): triangulateCell's quad, or its two halves
+        // along the diagonal the cell keeps, without building the chains.
+        const uint32_t c[4] = {lattice(i, j), lattice(i + 1, j), lattice(i + 1, j + 1), lattice(i, j + 1)};
+        const int diagonal = tile.cellDiagonal(i, j);
+        if (diagonal == 0) {
+          out.quad(c[0], c[1], c[2], c[3]);
+        } else {
+          const int d = diagonal - 1;
+          out.emit(c[d], c[d + 1], c[d + 2]);
+          out.emit(c[d + 2], c[(d + 3) % 4], c[d]);
+        }
+        continue;
+      }
       Chain cell[4];
       cell[0] = j == 0 ? piece(0, i) : segment(lattice(i, j), lattice(i + 1, j));
       cell[1] = i + 1 == ru ? piece(1, j) : segment(lattice(i + 1, j), lattice(i + 1, j + 1));
