@@ -60,6 +60,12 @@ struct Tile {
   // Side k's level and its index along its axis at that level (k = 0, 2 along u; 1, 3 along v).
   int levelAlong(int k) const { return level - int(k == 0 || k == 2 ? spanU : spanV); }
   uint64_t indexAlong(int k) const { return k == 0 || k == 2 ? ix >> spanU : iy >> spanV; }
+  // Inner grid point (i, j) (0 < i < ru, 0 < j < rv) in root coordinates: stitching names it and
+  // the grid's samples evaluate it from this one expression (the same bits either way).
+  void gridPoint(int i, int j, double& u, double& v) const {
+    u = (double(ix >> spanU) + double(i) / ru) * width();
+    v = (double(iy >> spanV) + double(j) / rv) * height();
+  }
   // Side k's own points that every line keeps, as the intervals they cut it into (docs/ADAPTIVE.md
   // §7): every cell's for a strip's long side and a cell-wise tile (triangulated cell by cell),
   // else its ends and, for a rectangle of grid tiles, the corners of the squares it was made of.

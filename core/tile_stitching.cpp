@@ -227,11 +227,10 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
     gridLocal_[t] = uint32_t(a.locals.size()) - slice.localsFrom;
-    const double x = double(tile.ix >> tile.spanU), y = double(tile.iy >> tile.spanV);
-    const double w = tile.width(), h = tile.height();
     for (int j = 1; j < tile.rv; ++j) {
       for (int i = 1; i < tile.ru; ++i) {
-        a.locals.push_back({t, (x + double(i) / tile.ru) * w, (y + double(j) / tile.rv) * h, 0});
+        VertexRequest& request = a.locals.emplace_back(VertexRequest{t, 0, 0, 0});
+        tile.gridPoint(i, j, request.u, request.v);
       }
     }
   }
