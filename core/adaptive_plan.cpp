@@ -589,6 +589,8 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
           replaced.push_back(tile);
         }
       }
+      // The squares planned again settle (their pending quadrants aside): they may merge.
+      mergeRectangles(tree, {tree.roots[r].node, 0, 0, 0}, replaced);
       tiles[r].swap(replaced);
     }
   });

@@ -16,6 +16,8 @@ namespace tessera {
 
 // Merges the tiles of one root (`top`: its tree node at level 0) in place, in tree order; pending
 // tiles, face triangles and tiles whose cells keep different diagonals are left as they are.
+// Planning calls it once a root is planned and again each time squares of it are planned again
+// (their pending tiles settled).
 void mergeRectangles(const SurfaceTree& tree, const NodeSquare& top, std::vector<Tile>& tiles);
 
 }  // namespace tessera
