@@ -60,8 +60,7 @@ struct Tile {
   // Side k's level and its index along its axis at that level (k = 0, 2 along u; 1, 3 along v).
   int levelAlong(int k) const { return level - int(k == 0 || k == 2 ? spanU : spanV); }
   uint64_t indexAlong(int k) const { return k == 0 || k == 2 ? ix >> spanU : iy >> spanV; }
-  // Inner grid point (i, j) (0 < i < ru, 0 < j < rv) in root coordinates: stitching names it and
-  // the grid's samples evaluate it from this one expression (the same bits either way).
+  // Inner grid point (i, j) (0 < i < ru, 0 < j < rv) in root coordinates.
   void gridPoint(int i, int j, double& u, double& v) const {
     u = (double(ix >> spanU) + double(i) / ru) * width();
     v = (double(iy >> spanV) + double(j) / rv) * height();

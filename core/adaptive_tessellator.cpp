@@ -2,7 +2,6 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <numeric>
@@ -36,37 +35,6 @@ void recordRange(const AdaptiveSurface& surface, const Stitching& stitching, con
   }
 }
 
-// Every tile's inner grid on the limit surface (GridSamples), tiles in chunks on all cores.
-void sampleGrids(const PatchSet& patches, const AdaptiveSurface& surface, const AdaptivePlan& plan,
-                 const std::function<void()>& checkpoint, GridSamples& grid) {
-  const size_t tiles = plan.tiles.size();
-  grid.tileFirst.resize(tiles + 1);
-  grid.tileFirst[0] = 0;
-  for (size_t t = 0; t < tiles; ++t) {
-    grid.tileFirst[t + 1] = grid.tileFirst[t] + uint32_t((plan.tiles[t].ru - 1) * (plan.tiles[t].rv - 1));
-  }
-  grid.positions.resize(grid.tileFirst[tiles]);
-  grid.normals.resize(grid.tileFirst[tiles]);
-  tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles, chunkFor(tiles, 1, 16)), [&](const auto& range) {
-    if (checkpoint) checkpoint();
-    SurfaceEvaluator& evaluator = evaluators.local();
-    for (size_t t = range.begin(); t != range.end(); ++t) {
-      const Tile& tile = plan.tiles[t];
-      uint32_t at = grid.tileFirst[t];
-      for (int j = 1; j < tile.rv; ++j) {
-        for (int i = 1; i < tile.ru; ++i, ++at) {
-          double u, v;
-          tile.gridPoint(i, j, u, v);
-          const SurfaceSample sample = evaluator.evaluate(tile.node, u, v);
-          grid.positions[at] = Vec3(sample.position);
-          grid.normals[at] = Vec3(sample.normal);
-        }
-      }
-    }
-  });
-}
-
 // Vertices [first, last) on the limit surface (and where each lies when `record`).
 void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, const AdaptivePlan& plan,
                    const Stitching& stitching, const std::vector<uint32_t>& tileRoot, bool record, size_t first,
@@ -78,27 +46,6 @@ void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, 
     mesh.normals[i] = Vec3(sample.normal);
   }
   if (record) recordRange(surface, stitching, tileRoot, first, last, mesh);
-}
-
-// Roots [firstRoot, endRoot)'s own vertices on the limit surface. Each root's inner grids are the
-// last of its own vertices, in GridSamples' order: copied from `grid` where it has them (they
-// were evaluated while the seams were stitched), the other vertices evaluated here.
-void evaluateRoots(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, const AdaptivePlan& plan,
-                   const Stitching& stitching, const GridSamples& grid, const std::vector<uint32_t>& tileRoot,
-                   bool record, size_t firstRoot, size_t endRoot, TriangleMesh& mesh) {
-  const uint32_t* rootFirst = stitching.rootFirstVertex.data();
-  if (grid.tileFirst.empty()) {
-    return evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, rootFirst[firstRoot], rootFirst[endRoot], mesh);
-  }
-  for (size_t r = firstRoot; r < endRoot; ++r) {
-    const uint32_t firstTile = plan.rootFirstTile[r], endTile = plan.rootFirstTile[r + 1];
-    const uint32_t gridFirst = firstTile < endTile ? stitching.gridFirst[firstTile] : rootFirst[r + 1];
-    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, rootFirst[r], gridFirst, mesh);
-    const uint32_t from = grid.tileFirst[firstTile], count = grid.tileFirst[endTile] - from;
-    std::copy_n(grid.positions.begin() + from, count, mesh.positions.begin() + gridFirst);
-    std::copy_n(grid.normals.begin() + from, count, mesh.normals.begin() + gridFirst);
-    if (record) recordRange(surface, stitching, tileRoot, gridFirst, gridFirst + count, mesh);
-  }
 }
 
 // The runs' triangles one after the other into mesh.indices (and each triangle's tile into
@@ -140,8 +87,7 @@ std::vector<uint32_t> concatenateRuns(const std::vector<TileTriangleOutput>& out
 // vertex normals (TileTriangleOutput), as positions in mesh.indices.
 std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const AdaptiveSurface& surface,
                                              const AdaptivePlan& plan, const Stitching& stitching,
-                                             const GridSamples& grid, const std::vector<uint32_t>& tileRoot,
-                                             bool record, TriangleMesh& mesh,
+                                             const std::vector<uint32_t>& tileRoot, bool record, TriangleMesh& mesh,
                                              VertexEvaluation* external, const std::function<void()>& checkpoint) {
   const size_t count = stitching.vertices.size();
   mesh.positions.resize(count);
@@ -178,7 +124,10 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   tbb::parallel_for(size_t(0), runs, [&](size_t r) {
     if (checkpoint) checkpoint();
     const size_t firstRoot = r * run, endRoot = std::min(roots, (r + 1) * run);
-    if (!evaluated) evaluateRoots(evaluators.local(), surface, plan, stitching, grid, tileRoot, record, firstRoot, endRoot, mesh);
+    if (!evaluated) {
+      evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record,
+                    stitching.rootFirstVertex[firstRoot], stitching.rootFirstVertex[endRoot], mesh);
+    }
     const size_t firstTile = plan.rootFirstTile[firstRoot], endTile = plan.rootFirstTile[endRoot];
     // Room for the run's triangles up front (a tile makes two a cell and one a side point past
     // its own, about), not grown by doubling from nothing.
@@ -409,14 +358,7 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
     }
     if (options.beforeOutput) options.beforeOutput(layout.plan.gridTriangles);
     faceTriangles.join(layout.plan, patches, surface);
-    if (options.vertexEvaluation) {
-      layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint);
-    } else {
-      // The inner grids need only the plan: evaluated while the seams are stitched, which on two
-      // cores far apart gains little from the second one (docs/ADAPTIVE.md §8).
-      tbb::parallel_invoke([&] { layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint); },
-                           [&] { sampleGrids(patches, surface, layout.plan, options.checkpoint, layout.grid); });
-    }
+    layout.stitching = stitchTiles(layout.plan, surface.tree, surface.lines, options.checkpoint);
     // A face triangle refused here is its sub-faces' tiles again next time, as `tiles` has them.
     const bool joined = faceTriangles.hold(layout.plan, layout.stitching, surface.tree);
     std::vector<TileSquare> failed;
@@ -443,8 +385,7 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
   }
   TriangleMesh mesh;
   std::vector<uint32_t> away =
-      evaluateAndTriangulate(patches, surface, plan, stitching, layout.grid, tileRoot, recordParameters, mesh, evaluation,
-                             checkpoint);
+      evaluateAndTriangulate(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, evaluation, checkpoint);
   if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
   splitFoldNormals(std::move(away), mesh);
   return mesh;

@@ -14,20 +14,10 @@
 
 namespace tessera {
 
-// Every tile's inner grid (Tile::gridPoint, row by row, tile after tile: the order stitching
-// numbers them in within each root) on the limit surface.
-struct GridSamples {
-  std::vector<Vec3> positions, normals;
-  std::vector<uint32_t> tileFirst;  // tile t's: [tileFirst[t], tileFirst[t + 1])
-};
-
 // Tiles and their seams, every bound settled.
 struct AdaptiveLayout {
   AdaptivePlan plan;
   Stitching stitching;
-  // Evaluated while the seams were stitched (they need only the plan) where the CPU evaluates
-  // the vertices (no options.vertexEvaluation); empty otherwise.
-  GridSamples grid;
   int rounds = 0;  // plans it took (docs/ADAPTIVE.md §5: one-cell tiles checked after stitching)
 };
 

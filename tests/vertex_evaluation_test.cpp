@@ -1,7 +1,6 @@
 // core/vertex_evaluation.h's seam, which the CUDA engine plugs into: an evaluation that puts every
 // vertex on the surface itself (here SurfaceEvaluator, in reverse order, into poisoned arrays)
-// gives the CPU path's mesh and per-vertex records exactly (the CPU path evaluates the tiles'
-// inner grids while the seams are stitched, GridSamples, and the rest after); one that declines (a device out of
+// gives the CPU path's mesh and per-vertex records exactly; one that declines (a device out of
 // memory) leaves the CPU to do it, with the same result; copies get their original's position.
 #include <gtest/gtest.h>
 
