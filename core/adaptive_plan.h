@@ -31,8 +31,8 @@ struct Tile {
   // Four sibling one-cell tiles (or cell-wise tiles of one rate) merged: ru = rv = 2^k cells,
   // each triangulated as the one-cell tile it was, its sides keeping their own points; `bound`
   // is the largest of theirs, and when pending, "points beside its corners" means points beside
-  // its own grid points (docs/ADAPTIVE.md §6). In the flattened plan also a rectangle of any
-  // ru × rv (spanU, spanV below).
+  // its own grid points (docs/ADAPTIVE.md §6). A rectangle of such tiles (spanU, spanV below) has
+  // any ru × rv.
   bool cellwise = false;
   // A one-cell tile whose bound holds only split along one diagonal (SurfaceNode::pairDiagonal):
   // 0 any, 1 + d diagonal d (0: corners 0–2, 1: corners 1–3); a cell-wise tile's cells all keep
@@ -48,8 +48,8 @@ struct Tile {
   uint8_t faceTriangle = 0;
   bool faceMiddles = false;
   // A dyadic rectangle of 2^spanU × 2^spanV squares of `level` from square (ix, iy) (aligned:
-  // ix a multiple of 2^spanU, iy of 2^spanV): cell-wise tiles of one size and rates merged side
-  // by side (core/tile_rectangles.h). Only the flattened plan has these; 0 is one square.
+  // ix a multiple of 2^spanU, iy of 2^spanV): settled tiles of one size, rates and kind merged
+  // side by side once planned (core/tile_rectangles.h); 0 is one square.
   uint8_t spanU = 0, spanV = 0;
 
   // Extent along u and v, and one past the last square along each (squares of `level`).
@@ -62,8 +62,8 @@ struct Tile {
   uint64_t indexAlong(int k) const { return k == 0 || k == 2 ? ix >> spanU : iy >> spanV; }
   // Inner grid point (i, j) (0 < i < ru, 0 < j < rv) in root coordinates.
   void gridPoint(int i, int j, double& u, double& v) const {
-    u = (double(ix >> spanU) + double(i) / ru) * width();
-    v = (double(iy >> spanV) + double(j) / rv) * height();
+    u = (double(indexAlong(0)) + double(i) / ru) * width();
+    v = (double(indexAlong(1)) + double(j) / rv) * height();
   }
   // Side k's own points that every line keeps, as the intervals they cut it into (docs/ADAPTIVE.md
   // §7): every cell's for a strip's long side and a cell-wise tile (triangulated cell by cell),

@@ -193,8 +193,8 @@ void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan
           break;
         }
       }
-      mesh.triangleST[6 * t + 2 * k] = (double(tile.ix >> tile.spanU) + x) * tile.width();
-      mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.iy >> tile.spanV) + y) * tile.height();
+      mesh.triangleST[6 * t + 2 * k] = (double(tile.indexAlong(0)) + x) * tile.width();
+      mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.indexAlong(1)) + y) * tile.height();
     }
   });
 }

@@ -79,7 +79,7 @@ bool mergePairs(const SurfaceTree& tree, const NodeSquare& top, bool alongU, std
 
 void mergeRectangles(const SurfaceTree& tree, const NodeSquare& top, std::vector<Tile>& tiles) {
   if (std::count_if(tiles.begin(), tiles.end(), mergeable) < 2) return;
-  // Scratch kept per thread: planning calls this once a root.
+  // Scratch kept per thread: planning calls this for every root it plans or plans again.
   thread_local std::vector<uint8_t> gone;
   thread_local std::vector<Entry> entries;
   gone.assign(tiles.size(), 0);

@@ -1,10 +1,13 @@
-// Dyadic rectangle tiles (docs/ADAPTIVE.md §6b): a root's settled cell-type tiles (one-cell
-// tiles, one-cell-wide strips, cell-wise tiles) of one size, rates and diagonal that lie side by
-// side as the two halves of an aligned rectangle become one cell-wise tile over it, again and
-// again. Every side of a cell-type tile keeps its own grid points (a strip's short side and a
-// one-cell side have only their corners as grid points), so the lines get the same points, every
-// cell the same polygon and the same triangles, and every bound still holds: only the per-tile
-// work of the later phases (stitching, the neighbour rounds, triangulation) shrinks.
+// Dyadic rectangle tiles (docs/ADAPTIVE.md §6b): a root's settled tiles of one size, rates, kind
+// and diagonal that lie side by side as the two halves of an aligned rectangle become one tile
+// over it, again and again, so that the per-tile work of the later phases (stitching, the
+// neighbour rounds, triangulation) shrinks while every bound still holds:
+// - cell-type tiles (one-cell tiles, strips, cell-wise tiles) become a cell-wise rectangle: every
+//   side of theirs keeps its own grid points already (a strip's short side and a one-cell side
+//   have only their corners as grid points), so the lines get the same points and every cell the
+//   same polygon and triangles;
+// - grid tiles become a grid rectangle whose sides keep the corners of its squares
+//   (Tile::keptIntervals), so that no zip triangle crosses from one square into another.
 #pragma once
 
 #include <vector>

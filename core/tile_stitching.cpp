@@ -75,7 +75,7 @@ LineUse sideUse(const Tile& tile, uint32_t t, int k) {
 
 // The point at `along` (0..1) of side k of a tile, in root coordinates.
 void sidePoint(const Tile& tile, int k, double along, double& u, double& v) {
-  const double x = double(tile.ix >> tile.spanU), y = double(tile.iy >> tile.spanV);
+  const double x = double(tile.indexAlong(0)), y = double(tile.indexAlong(1));
   const bool alongU = k == 0 || k == 2;
   u = (alongU ? x + along : x + (k == 1)) * tile.width();
   v = (alongU ? y + (k == 2) : y + along) * tile.height();

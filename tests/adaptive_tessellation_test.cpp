@@ -490,8 +490,8 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
     // fractions of a power of two up to rounding).
     double u[3], v[3];
     for (int k = 0; k < 3; ++k) {
-      u[k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.ix >> tile.spanU)) * tile.ru;
-      v[k] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.iy >> tile.spanV)) * tile.rv;
+      u[k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.indexAlong(0))) * tile.ru;
+      v[k] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.indexAlong(1))) * tile.rv;
     }
     const double cu = std::floor((u[0] + u[1] + u[2]) / 3), cv = std::floor((v[0] + v[1] + v[2]) / 3);
     // ... and lie on its sides, as docs/ADAPTIVE.md §3 asks of a one-cell triangulation.
@@ -523,8 +523,8 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEachCellsDiagonal) {
     if (!tile.cellDiagonals) continue;
     std::array<double, 6> st;
     for (int k = 0; k < 3; ++k) {
-      st[2 * k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.ix >> tile.spanU)) * tile.ru;
-      st[2 * k + 1] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.iy >> tile.spanV)) * tile.rv;
+      st[2 * k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.indexAlong(0))) * tile.ru;
+      st[2 * k + 1] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.indexAlong(1))) * tile.rv;
     }
     corners[piece].push_back(st);
   }

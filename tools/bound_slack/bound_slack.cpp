@@ -62,8 +62,8 @@ struct TileFrame {
   double u0, v0, w, h;
   TileFrame(const NodeSquare& r, const Tile& tile)
       : root(r),
-        u0(double(tile.ix >> tile.spanU) * tile.width()),
-        v0(double(tile.iy >> tile.spanV) * tile.height()),
+        u0(double(tile.indexAlong(0)) * tile.width()),
+        v0(double(tile.indexAlong(1)) * tile.height()),
         w(tile.width()),
         h(tile.height()) {}
   Vec3d at(SurfaceEvaluator& evaluator, double a, double b) const {
