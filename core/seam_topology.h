@@ -19,6 +19,8 @@ namespace tessera {
 inline constexpr int kRootBits = 50;
 inline constexpr int kLineBits = kRootBits + 1;
 inline constexpr int64_t kRootScale = int64_t(1) << kRootBits;
+// Root coordinate (scale kRootScale) of the i-th side of squares of `level`.
+constexpr int64_t rootCoordinate(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
 inline constexpr int64_t kLineScale = int64_t(1) << kLineBits;
 
 // A line roots share: a base edge (lower vertex first) or spoke k of an n-gon (from the middle of

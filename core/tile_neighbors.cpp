@@ -27,8 +27,6 @@ int64_t toSide(const SideLine& line, int64_t t) {
   return line.halves == 1 ? along / 2 : along;
 }
 
-constexpr int64_t corner(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
-
 }  // namespace
 
 RootSeams::RootSeams(const SurfaceTree& tree, const SeamTopology& seams) {
@@ -111,13 +109,13 @@ bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uin
   const Tile& n = tiles_[root][t];
   const bool alongU = side == 0 || side == 2;
   const int cells = alongU ? n.ru : n.rv;
-  const int64_t sideLength = corner(n.levelAlong(side), 1);
+  const int64_t sideLength = rootCoordinate(n.levelAlong(side), 1);
   // Its cell, sideLength / cells, against our side, b − a.
   if (__int128(sideLength) < __int128(b - a) * cells) return true;
   // The first point it keeps past a: at origin + j·sideLength/kept.
   const int kept = n.keptIntervals(side);
   if (kept == 1) return false;
-  const int64_t origin = corner(n.levelAlong(side), n.indexAlong(side));
+  const int64_t origin = rootCoordinate(n.levelAlong(side), n.indexAlong(side));
   const __int128 j = (__int128(a - origin) * kept) / sideLength + 1;
   return j < kept && __int128(origin) * kept + j * sideLength < __int128(b) * kept;
 }
@@ -139,7 +137,7 @@ bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) cons
 
 bool TileNeighbors::squareSideGetsPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side) const {
   const bool alongU = side == 0 || side == 2;
-  const int64_t a = corner(level, alongU ? ix : iy), b = corner(level, (alongU ? ix : iy) + 1);
+  const int64_t a = rootCoordinate(level, alongU ? ix : iy), b = rootCoordinate(level, (alongU ? ix : iy) + 1);
   const bool onBoundary = sidesTouched(ix, iy, level) >> side & 1;
   if (!onBoundary) {
     const uint64_t nx = side == 1 ? ix + 1 : side == 3 ? ix - 1 : ix;

@@ -7,10 +7,14 @@ namespace tessera {
 
 namespace {
 
-bool mergeable(const Tile& t) { return !t.pendingPair && !t.faceTriangle && t.cellDiagonals == 0; }
+bool mergeable(const Tile& t) {
+  return !t.pendingPair && !t.faceTriangle && t.cellDiagonals == 0;
+}
 
 // Triangulated cell by cell (one-cell tiles, strips, cell-wise tiles) or as a grid with zips.
-bool cellType(const Tile& t) { return t.ru == 1 || t.rv == 1 || t.cellwise; }
+bool cellType(const Tile& t) {
+  return t.ru == 1 || t.rv == 1 || t.cellwise;
+}
 
 // A mergeable tile in a pass along one axis: what its partner must share (size, rates, kind and
 // diagonal, packed), its position across the axis, and along it.
@@ -24,13 +28,15 @@ struct Entry {
 
 Entry entryOf(const Tile& t, uint32_t index, bool alongU) {
   const uint64_t key = uint64_t(t.level) << 40 | uint64_t(t.spanU) << 34 | uint64_t(t.spanV) << 28 |
-                       uint64_t(t.ru) << 20 | uint64_t(t.rv) << 12 | uint64_t(cellType(t)) << 8 | t.diagonal;
+                       uint64_t(t.ru) << 20 | uint64_t(t.rv) << 12 | uint64_t(cellType(t)) << 8 |
+                       t.diagonal;
   return {key, alongU ? t.iy : t.ix, alongU ? t.ix : t.iy, index};
 }
 
 // The deepest tree node holding the rectangle: the square at the level of its longer side
 // holds it (the rectangle is aligned), and a node holding one of its halves may already.
-NodeSquare holder(const SurfaceTree& tree, const NodeSquare& top, const Tile& half, const Tile& merged) {
+NodeSquare holder(const SurfaceTree& tree, const NodeSquare& top, const Tile& half,
+                  const Tile& merged) {
   const int level = merged.level - std::max(merged.spanU, merged.spanV);
   if (half.node.level <= level) return half.node;
   NodeSquare node = top;
@@ -42,8 +48,8 @@ NodeSquare holder(const SurfaceTree& tree, const NodeSquare& top, const Tile& ha
 }
 
 // One pass along one axis: each aligned pair, left (or lower) half first, merged into the first.
-bool mergePairs(const SurfaceTree& tree, const NodeSquare& top, bool alongU, std::vector<Tile>& tiles,
-                std::vector<Entry>& entries, std::vector<uint8_t>& gone) {
+bool mergePairs(const SurfaceTree& tree, const NodeSquare& top, bool alongU,
+                std::vector<Tile>& tiles, std::vector<Entry>& entries, std::vector<uint8_t>& gone) {
   entries.clear();
   for (uint32_t t = 0; t < tiles.size(); ++t) {
     if (!gone[t] && mergeable(tiles[t])) entries.push_back(entryOf(tiles[t], t, alongU));

@@ -59,8 +59,6 @@ struct LineRecord {
   VertexRequest claim[3] = {{UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}, {UINT32_MAX, 0, 0, 0}};
 };
 
-constexpr int64_t at(int level, uint64_t i) { return int64_t(i) << (kRootBits - level); }
-
 // Side k of tile t on a line, before its position there is set.
 LineUse sideUse(const Tile& tile, uint32_t t, int k) {
   LineUse use;
@@ -82,8 +80,12 @@ void sidePoint(const Tile& tile, int k, double along, double& u, double& v) {
 }
 
 // A tile's corner c (0..3, counter-clockwise from (ix, iy)) in root coordinates.
-int64_t cornerX(const Tile& tile, uint32_t c) { return at(tile.level, c == 1 || c == 2 ? tile.ixEnd() : tile.ix); }
-int64_t cornerY(const Tile& tile, uint32_t c) { return at(tile.level, c >= 2 ? tile.iyEnd() : tile.iy); }
+int64_t cornerX(const Tile& tile, uint32_t c) {
+  return rootCoordinate(tile.level, c == 1 || c == 2 ? tile.ixEnd() : tile.ix);
+}
+int64_t cornerY(const Tile& tile, uint32_t c) {
+  return rootCoordinate(tile.level, c >= 2 ? tile.iyEnd() : tile.iy);
+}
 
 // Tile t's side on its root's boundary through its corner (x, y), as side 4t + k, and which end.
 uint32_t boundarySideEnd(const Tile& tile, uint32_t t, int64_t x, int64_t y, uint8_t& end) {
@@ -195,8 +197,8 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
       use.sign = line.sign;
       use.exp = level + d;
       const int64_t origin = line.origin ? kLineScale : 0, scale = line.halves == 1 ? 2 : 1;
-      use.t0 = origin + line.sign * scale * at(level, along);
-      use.t1 = origin + line.sign * scale * at(level, along + 1);
+      use.t0 = origin + line.sign * scale * rootCoordinate(level, along);
+      use.t1 = origin + line.sign * scale * rootCoordinate(level, along + 1);
       if (use.t1 < use.t0) std::swap(use.t0, use.t1);
       a.boundaryUses.push_back(use);
     }
@@ -211,7 +213,10 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
       if (tile.onRootSide(k)) continue;
       LineUse use = sideUse(tile, t, k);
       use.a = Int(tile.indexAlong(k)) * use.cells;
-      const int64_t fixed = k == 0 ? cornerY(tile, 0) : k == 1 ? cornerX(tile, 1) : k == 2 ? cornerY(tile, 2) : cornerX(tile, 0);
+      const int64_t fixed = k == 0   ? cornerY(tile, 0)
+                            : k == 1 ? cornerX(tile, 1)
+                            : k == 2 ? cornerY(tile, 2)
+                                     : cornerX(tile, 0);
       const uint64_t axis = k == 0 || k == 2 ? 1 : 0;
       a.innerKeys.push_back({axis << 63 | uint64_t(fixed), uint32_t(a.innerUses.size())});
       a.innerUses.push_back(use);

@@ -523,8 +523,9 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEachCellsDiagonal) {
     if (!tile.cellDiagonals) continue;
     std::array<double, 6> st;
     for (int k = 0; k < 3; ++k) {
-      st[2 * k] = (result.mesh.triangleST[6 * t + 2 * k] / tile.width() - double(tile.indexAlong(0))) * tile.ru;
-      st[2 * k + 1] = (result.mesh.triangleST[6 * t + 2 * k + 1] / tile.height() - double(tile.indexAlong(1))) * tile.rv;
+      const double* at = &result.mesh.triangleST[6 * t + 2 * k];
+      st[2 * k] = (at[0] / tile.width() - double(tile.indexAlong(0))) * tile.ru;
+      st[2 * k + 1] = (at[1] / tile.height() - double(tile.indexAlong(1))) * tile.rv;
     }
     corners[piece].push_back(st);
   }

@@ -1,4 +1,6 @@
 // Dyadic rectangle tiles (core/tile_rectangles.h, docs/ADAPTIVE.md §6b).
+#include "core/tile_rectangles.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 #include "core/adaptive_tessellator.h"
 #include "core/obj_reader.h"
 #include "core/patch_set.h"
-#include "core/tile_rectangles.h"
 #include "tests/support/models.h"
 
 namespace tessera {
@@ -20,7 +21,8 @@ namespace {
 
 // A settled tile of `root`'s square (level, ix, iy); its node is the root's (level 0), which
 // holds every rectangle, so merging never walks the (empty) tree.
-Tile square(int level, uint64_t ix, uint64_t iy, int ru, int rv, float bound = 1, bool cellwise = false) {
+Tile square(int level, uint64_t ix, uint64_t iy, int ru, int rv, float bound = 1,
+            bool cellwise = false) {
   Tile tile;
   tile.node = {0, 0, 0, 0};
   tile.level = level, tile.ix = ix, tile.iy = iy;
@@ -32,11 +34,13 @@ Tile square(int level, uint64_t ix, uint64_t iy, int ru, int rv, float bound = 1
 
 TEST(TileRectangles, AColumnOfStripsBecomesOneCellwiseRectangle) {
   std::vector<Tile> tiles;
-  for (uint64_t iy = 0; iy < 8; ++iy) tiles.push_back(square(3, 2, iy, 5, 1, 0.25f + 0.1f * float(iy)));
+  for (uint64_t iy = 0; iy < 8; ++iy)
+    tiles.push_back(square(3, 2, iy, 5, 1, 0.25f + 0.1f * float(iy)));
   mergeRectangles(SurfaceTree(), {0, 0, 0, 0}, tiles);
   ASSERT_EQ(tiles.size(), 1u);
   const Tile& t = tiles[0];
-  EXPECT_EQ(std::tie(t.level, t.ix, t.iy, t.spanU, t.spanV), std::make_tuple(3, uint64_t(2), uint64_t(0), uint8_t(0), uint8_t(3)));
+  EXPECT_EQ(std::tie(t.level, t.ix, t.iy, t.spanU, t.spanV),
+            std::make_tuple(3, uint64_t(2), uint64_t(0), uint8_t(0), uint8_t(3)));
   EXPECT_EQ(t.ru, 5);
   EXPECT_EQ(t.rv, 8);
   EXPECT_TRUE(t.cellwise);  // its cells triangulated one by one, as the strips' were
@@ -49,11 +53,13 @@ TEST(TileRectangles, AColumnOfStripsBecomesOneCellwiseRectangle) {
 }
 
 TEST(TileRectangles, GridTilesMergeKeepingTheirSquaresCorners) {
-  std::vector<Tile> tiles = {square(2, 0, 1, 3, 4), square(2, 1, 1, 3, 4), square(2, 0, 0, 3, 4), square(2, 1, 0, 3, 4)};
+  std::vector<Tile> tiles = {square(2, 0, 1, 3, 4), square(2, 1, 1, 3, 4), square(2, 0, 0, 3, 4),
+                             square(2, 1, 0, 3, 4)};
   mergeRectangles(SurfaceTree(), {0, 0, 0, 0}, tiles);
   ASSERT_EQ(tiles.size(), 1u);
   const Tile& t = tiles[0];
-  EXPECT_EQ(std::tie(t.ix, t.iy, t.spanU, t.spanV), std::make_tuple(uint64_t(0), uint64_t(0), uint8_t(1), uint8_t(1)));
+  EXPECT_EQ(std::tie(t.ix, t.iy, t.spanU, t.spanV),
+            std::make_tuple(uint64_t(0), uint64_t(0), uint8_t(1), uint8_t(1)));
   EXPECT_EQ(t.ru, 6);
   EXPECT_EQ(t.rv, 8);
   EXPECT_FALSE(t.cellwise);
@@ -67,10 +73,10 @@ TEST(TileRectangles, GridTilesMergeKeepingTheirSquaresCorners) {
 
 TEST(TileRectangles, OnlyAlignedSettledTilesOfOneKindAndRateMerge) {
   const std::vector<Tile> apart = {
-      square(2, 1, 0, 3, 3), square(2, 2, 0, 3, 3),        // not the halves of an aligned rectangle
-      square(2, 0, 1, 3, 3), square(2, 1, 1, 3, 2),        // different rates
+      square(2, 1, 0, 3, 3), square(2, 2, 0, 3, 3),  // not the halves of an aligned rectangle
+      square(2, 0, 1, 3, 3), square(2, 1, 1, 3, 2),  // different rates
       square(2, 0, 2, 2, 2), square(2, 1, 2, 2, 2, 1, true),  // a grid beside a cell-wise tile
-      square(3, 0, 6, 1, 1), square(2, 1, 3, 1, 1),        // different sizes
+      square(3, 0, 6, 1, 1), square(2, 1, 3, 1, 1),           // different sizes
   };
   std::vector<Tile> tiles = apart;
   mergeRectangles(SurfaceTree(), {0, 0, 0, 0}, tiles);
@@ -117,7 +123,8 @@ bool everyVertexIn(const TriangleMesh& a, const TriangleMesh& b, double toleranc
     auto it = std::lower_bound(sorted.begin(), sorted.end(), p.x - tolerance,
                                [](const Vec3& q, double x) { return q.x < x; });
     bool found = false;
-    for (; it != sorted.end() && it->x <= p.x + tolerance && !found; ++it) found = length(*it - p) <= tolerance;
+    for (; it != sorted.end() && it->x <= p.x + tolerance && !found; ++it)
+      found = length(*it - p) <= tolerance;
     if (!found) return false;
   }
   return true;
@@ -128,8 +135,10 @@ bool everyVertexIn(const TriangleMesh& a, const TriangleMesh& b, double toleranc
 // their parameters) and its region as many triangles; and every triangle of a
 // rectangle lies in one of its squares, the squares whose bounds it keeps (docs/ADAPTIVE.md §6b).
 TEST(TileRectangles, TheSameVerticesAsTheirSquaresAndEveryTriangleInOneSquare) {
-  for (const auto& [name, relative] : {std::pair<std::string, double>{"opensubdiv-shapes/catmark_torus_creases0", 1e-3},
-                                       {"bigguy", 1e-3}, {"car", 1e-3}}) {
+  for (const auto& [name, relative] :
+       {std::pair<std::string, double>{"opensubdiv-shapes/catmark_torus_creases0", 1e-3},
+        {"bigguy", 1e-3},
+        {"car", 1e-3}}) {
     SCOPED_TRACE(name);
     const ControlMesh mesh = readObjFile(testing::modelsDir() + "/" + name + ".obj");
     const PatchSet set = buildPatchSet(mesh);
@@ -141,8 +150,9 @@ TEST(TileRectangles, TheSameVerticesAsTheirSquaresAndEveryTriangleInOneSquare) {
     split.stitching = stitchTiles(split.plan, set.adaptive->tree, set.adaptive->lines, {});
     const size_t rectangles = std::count_if(merged.plan.tiles.begin(), merged.plan.tiles.end(),
                                             [](const Tile& t) { return t.spanU || t.spanV; });
-    const size_t grids = std::count_if(merged.plan.tiles.begin(), merged.plan.tiles.end(),
-                                       [](const Tile& t) { return (t.spanU || t.spanV) && !t.cellwise; });
+    const size_t grids =
+        std::count_if(merged.plan.tiles.begin(), merged.plan.tiles.end(),
+                      [](const Tile& t) { return (t.spanU || t.spanV) && !t.cellwise; });
     EXPECT_GT(rectangles, 20u);
     EXPECT_GT(grids, 10u);
     EXPECT_LT(merged.plan.tiles.size(), split.plan.tiles.size());
@@ -166,7 +176,8 @@ TEST(TileRectangles, TheSameVerticesAsTheirSquaresAndEveryTriangleInOneSquare) {
       }
       for (int d = 0; d < 2; ++d) {
         ASSERT_LE(std::ceil(lo[d] - 1e-9), std::floor(hi[d] + 1e-9) + 1) << "triangle " << t;
-        ASSERT_LE(hi[d] - std::floor(lo[d] + 1e-9), 1 + 1e-9) << "triangle " << t << " crosses a square's side";
+        ASSERT_LE(hi[d] - std::floor(lo[d] + 1e-9), 1 + 1e-9)
+            << "triangle " << t << " crosses a square's side";
       }
       ++checked;
     }

@@ -173,7 +173,8 @@ int run(const char* path, double relative) {
     for (uint32_t t = layout.plan.rootFirstTile[r]; t < layout.plan.rootFirstTile[r + 1]; ++t) {
       const Tile& tile = layout.plan.tiles[t];
       // A rectangle's rates are over several squares: §2a's ratio below is per square.
-      if (tile.ru * tile.rv < 2 || tile.cellwise || tile.spanU || tile.spanV || tree.nodes[tile.node.node].evCorners != 0) continue;
+      if (tile.ru * tile.rv < 2 || tile.cellwise || tile.spanU || tile.spanV) continue;
+      if (tree.nodes[tile.node.node].evCorners != 0) continue;
       const TileFrame frame(root, tile);
       const double measured = measuredDistance(evaluator, output, rootTriangles[r], frame, tile);
       if (!(measured > 0)) continue;
