@@ -11,6 +11,7 @@
 #include "core/dyadic.h"
 #include "core/edge_curvature.h"
 #include "core/parallel_chunks.h"
+#include "core/tile_neighbors.h"
 #include "core/tile_rectangles.h"
 #include "core/tolerance_model.h"
 
@@ -126,6 +127,9 @@ class Planner {
   // pending cell-wise tile's square with its quadrants' tiles unmerged, those that the points on
   // `sides` (bit k: the square's side k got points) break planned again without the shortcut.
   void planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::vector<Tile>& out) const;
+  // The pending tiles of `root` that its own tiles already break (on sides inside the root)
+  // planned again, until none does.
+  void settleInnerSides(uint32_t root, std::vector<Tile>& tiles) const;
 
  private:
   struct Candidate {
@@ -513,6 +517,40 @@ void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
   Candidate top = realCandidate({tree_.roots[root].node, 0, 0, 0});
   plan(top, gridFor(top), out);
   mergeRectangles(tree_, top.real, out);
+  settleInnerSides(root, out);
+}
+
+// A pending tile's side inside its root gets its points from the root's own tiles alone, which
+// the first round of neighbour checks (adaptive_tessellator.h) would see as they are here: a tile
+// failing on such a side is planned again here, on the core that planned the root, a round
+// earlier and without the round's pass over every root; the rounds then decide the sides on base
+// edges and spokes. (The rounds' outcome depends a little on the order in which squares are planned
+// again, as a square planned again as a grid keeps fewer points on its sides than the cell-wise
+// tile it replaces: docs/ADAPTIVE.md §3.)
+void Planner::settleInnerSides(uint32_t root, std::vector<Tile>& tiles) const {
+  thread_local RootTileIndex index;
+  thread_local std::vector<Tile> replaced;
+  for (bool failed = true; failed;) {
+    failed = false;
+    index.index(tiles);
+    replaced.clear();
+    for (uint32_t t = 0; t < tiles.size(); ++t) {
+      const Tile& tile = tiles[t];
+      uint8_t sides = 0;
+      for (int k = 0; k < 4 && tile.pendingPair; ++k) {
+        if (!tile.onRootSide(k) && index.innerSideGetsPoints(tiles, t, k)) sides |= uint8_t(1 << k);
+      }
+      if (tile.pendingPair && tile.boundWithPoints(sides) > tile.tolerance) {
+        planSquare(root, tile, sides, replaced);
+        failed = true;
+      } else {
+        replaced.push_back(tile);
+      }
+    }
+    if (!failed) return;
+    mergeRectangles(tree_, {tree_.roots[root].node, 0, 0, 0}, replaced);
+    tiles.swap(replaced);
+  }
 }
 
 void Planner::planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::vector<Tile>& out) const {

@@ -66,35 +66,35 @@ RootSeams::RootSeams(const SurfaceTree& tree, const SeamTopology& seams) {
 }
 
 TileNeighbors::TileNeighbors(const RootSeams& seams, const RootTiles& tiles)
-    : seams_(seams), tiles_(tiles), entries_(tiles.size()) {
+    : seams_(seams), tiles_(tiles), roots_(tiles.size()) {
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(tiles.size()), 64), [&](const auto& range) {
     for (uint32_t r = range.begin(); r != range.end(); ++r) reindex(r);
   });
 }
 
-void TileNeighbors::reindex(uint32_t root) {
-  std::vector<Entry>& entries = entries_[root];
-  entries.clear();
-  for (uint32_t t = 0; t < tiles_[root].size(); ++t) {
+void TileNeighbors::reindex(uint32_t root) { roots_[root].index(tiles_[root]); }
+
+void RootTileIndex::index(const std::vector<Tile>& tiles) {
+  entries_.clear();
+  for (uint32_t t = 0; t < tiles.size(); ++t) {
     // A rectangle (core/tile_rectangles.h) under each of its squares.
-    const Tile& tile = tiles_[root][t];
+    const Tile& tile = tiles[t];
     for (uint64_t iy = tile.iy; iy < tile.iyEnd(); ++iy) {
-      for (uint64_t ix = tile.ix; ix < tile.ixEnd(); ++ix) entries.push_back({tile.level, ix, iy, t});
+      for (uint64_t ix = tile.ix; ix < tile.ixEnd(); ++ix) entries_.push_back({tile.level, ix, iy, t});
     }
   }
-  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+  std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
     return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
   });
 }
 
-uint32_t TileNeighbors::covering(uint32_t root, int level, uint64_t ix, uint64_t iy) const {
-  const std::vector<Entry>& entries = entries_[root];
+uint32_t RootTileIndex::covering(int level, uint64_t ix, uint64_t iy) const {
   for (int l = level; l >= 0; --l) {
     const Entry key{l, ix >> (level - l), iy >> (level - l), 0};
-    const auto found = std::lower_bound(entries.begin(), entries.end(), key, [](const Entry& a, const Entry& b) {
+    const auto found = std::lower_bound(entries_.begin(), entries_.end(), key, [](const Entry& a, const Entry& b) {
       return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
     });
-    if (found != entries.end() && found->level == l && found->ix == key.ix && found->iy == key.iy) return found->tile;
+    if (found != entries_.end() && found->level == l && found->ix == key.ix && found->iy == key.iy) return found->tile;
   }
   return UINT32_MAX;
 }
@@ -102,11 +102,11 @@ uint32_t TileNeighbors::covering(uint32_t root, int level, uint64_t ix, uint64_t
 // The tile across: points inside our side come from a smaller tile (its corner), from cells
 // shorter than the side (the densest-first rule fills the gap), or from a strip or a cell-wise
 // tile, which keep their own points (tile_stitching.h).
-bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side, int64_t a,
-                                      int64_t b) const {
-  const uint32_t t = covering(root, level, ix, iy);
+bool RootTileIndex::acrossGivesPoints(const std::vector<Tile>& tiles, int level, uint64_t ix, uint64_t iy, int side,
+                                      int64_t a, int64_t b) const {
+  const uint32_t t = covering(level, ix, iy);
   if (t == UINT32_MAX) return true;
-  const Tile& n = tiles_[root][t];
+  const Tile& n = tiles[t];
   const bool alongU = side == 0 || side == 2;
   const int cells = alongU ? n.ru : n.rv;
   const int64_t sideLength = rootCoordinate(n.levelAlong(side), 1);
@@ -120,30 +120,47 @@ bool TileNeighbors::acrossGivesPoints(uint32_t root, int level, uint64_t ix, uin
   return j < kept && __int128(origin) * kept + j * sideLength < __int128(b) * kept;
 }
 
-bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) const {
-  const Tile& tile = tiles_[root][index];
-  if (!tile.cellwise) return squareSideGetsPoints(root, tile.level, tile.ix, tile.iy, side);
-  // A cell-wise tile keeps its own points: what matters is whether any of its cells along the
-  // side gets more, each cell seen as the one-cell tile it was.
+namespace {
+
+// Whether `gets` holds for any square of side k of `tile` seen as a one-cell tile's: the tile's
+// own square, or for a cell-wise tile (which keeps its own points) each of its cells along the
+// side, as the one-cell tile it was.
+template <class Gets>
+bool anySideSquare(const Tile& tile, int side, const Gets& gets) {
+  if (!tile.cellwise) return gets(tile.level, tile.ix, tile.iy);
   const int cells = tile.ru, depth = __builtin_ctz(unsigned(cells));
   const uint64_t x0 = tile.ix << depth, y0 = tile.iy << depth, last = uint64_t(cells) - 1;
   for (uint64_t c = 0; c < uint64_t(cells); ++c) {
     const uint64_t x = x0 + (side == 0 || side == 2 ? c : side == 1 ? last : 0);
     const uint64_t y = y0 + (side == 1 || side == 3 ? c : side == 2 ? last : 0);
-    if (squareSideGetsPoints(root, tile.level + depth, x, y, side)) return true;
+    if (gets(tile.level + depth, x, y)) return true;
   }
   return false;
+}
+
+}  // namespace
+
+bool RootTileIndex::innerSideGetsPoints(const std::vector<Tile>& tiles, uint32_t t, int side) const {
+  return anySideSquare(tiles[t], side, [&](int level, uint64_t ix, uint64_t iy) {
+    const bool alongU = side == 0 || side == 2;
+    const int64_t a = rootCoordinate(level, alongU ? ix : iy), b = rootCoordinate(level, (alongU ? ix : iy) + 1);
+    const uint64_t nx = side == 1 ? ix + 1 : side == 3 ? ix - 1 : ix;
+    const uint64_t ny = side == 2 ? iy + 1 : side == 0 ? iy - 1 : iy;
+    return acrossGivesPoints(tiles, level, nx, ny, side ^ 2, a, b);
+  });
+}
+
+bool TileNeighbors::sideGetsPoints(uint32_t root, uint32_t index, int side) const {
+  const Tile& tile = tiles_[root][index];
+  if (!tile.onRootSide(side)) return roots_[root].innerSideGetsPoints(tiles_[root], index, side);
+  return anySideSquare(tile, side, [&](int level, uint64_t ix, uint64_t iy) {
+    return squareSideGetsPoints(root, level, ix, iy, side);
+  });
 }
 
 bool TileNeighbors::squareSideGetsPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side) const {
   const bool alongU = side == 0 || side == 2;
   const int64_t a = rootCoordinate(level, alongU ? ix : iy), b = rootCoordinate(level, (alongU ? ix : iy) + 1);
-  const bool onBoundary = sidesTouched(ix, iy, level) >> side & 1;
-  if (!onBoundary) {
-    const uint64_t nx = side == 1 ? ix + 1 : side == 3 ? ix - 1 : ix;
-    const uint64_t ny = side == 2 ? iy + 1 : side == 0 ? iy - 1 : iy;
-    return acrossGivesPoints(root, level, nx, ny, side ^ 2, a, b);
-  }
   // Across a base edge or spoke: the roots on the same line, where they overlap our side.
   const RootSeams::Span& ours = seams_.own[4 * size_t(root) + side];
   int64_t ta = toLine(ours.line, a), tb = toLine(ours.line, b);
@@ -162,7 +179,7 @@ bool TileNeighbors::squareSideGetsPoints(uint32_t root, int level, uint64_t ix, 
     const int k = other.side;
     const uint64_t nx = k == 1 ? end : k == 3 ? 0 : i2, ny = k == 2 ? end : k == 0 ? 0 : i2;
     if (tiles_[other.root].empty()) continue;  // a hole
-    if (acrossGivesPoints(other.root, otherLevel, nx, ny, k, sa, sb)) return true;
+    if (roots_[other.root].acrossGivesPoints(tiles_[other.root], otherLevel, nx, ny, k, sa, sb)) return true;
   }
   return false;
 }

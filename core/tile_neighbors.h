@@ -31,6 +31,29 @@ struct RootSeams {
   RootSeams(const SurfaceTree& tree, const SeamTopology& seams);
 };
 
+// One root's tiles indexed by square (a rectangle under each of its squares), for the questions
+// about sides inside the root, which only its own tiles answer.
+class RootTileIndex {
+ public:
+  void index(const std::vector<Tile>& tiles);
+  // The tile covering square (level, ix, iy), UINT32_MAX when smaller tiles do.
+  uint32_t covering(int level, uint64_t ix, uint64_t iy) const;
+  // Whether the tile across square (level, ix, iy)'s side `side` puts points strictly inside that
+  // side, which runs over [a, b] (root coordinates, scale kRootScale).
+  bool acrossGivesPoints(const std::vector<Tile>& tiles, int level, uint64_t ix, uint64_t iy, int side, int64_t a,
+                         int64_t b) const;
+  // Whether side k of tiles[t], a side inside the root, will get points beside its own.
+  bool innerSideGetsPoints(const std::vector<Tile>& tiles, uint32_t t, int side) const;
+
+ private:
+  struct Entry {
+    int level;
+    uint64_t ix, iy;
+    uint32_t tile;
+  };
+  std::vector<Entry> entries_;  // sorted by (level, ix, iy)
+};
+
 class TileNeighbors {
  public:
   TileNeighbors(const RootSeams& seams, const RootTiles& tiles);
@@ -41,22 +64,12 @@ class TileNeighbors {
   bool sideGetsPoints(uint32_t root, uint32_t tile, int side) const;
 
  private:
-  struct Entry {
-    int level;
-    uint64_t ix, iy;
-    uint32_t tile;
-  };
-  // Side k of square (level, ix, iy) of `root`, as a one-cell tile's.
+  // Side k of square (level, ix, iy) of `root`, a side on the root's boundary, as a one-cell tile's.
   bool squareSideGetsPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side) const;
-  // The tile of `root` covering square (level, ix, iy), UINT32_MAX when smaller tiles do.
-  uint32_t covering(uint32_t root, int level, uint64_t ix, uint64_t iy) const;
-  // Whether the tile of `root` across square (level, ix, iy)'s side `side` puts points strictly
-  // inside that side, which runs over [a, b] (root coordinates, scale kRootScale).
-  bool acrossGivesPoints(uint32_t root, int level, uint64_t ix, uint64_t iy, int side, int64_t a, int64_t b) const;
 
   const RootSeams& seams_;
   const RootTiles& tiles_;
-  std::vector<std::vector<Entry>> entries_;  // per root, sorted by (level, ix, iy)
+  std::vector<RootTileIndex> roots_;
 };
 
 }  // namespace tessera
