@@ -627,8 +627,10 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
           replaced.push_back(tile);
         }
       }
-      // The squares planned again settle (their pending quadrants aside): they may merge.
+      // The squares planned again settle (their pending quadrants aside): they may merge, and
+      // what they now put on sides inside the root is checked there.
       mergeRectangles(tree, {tree.roots[r].node, 0, 0, 0}, replaced);
+      planner.settleInnerSides(r, replaced);
       tiles[r].swap(replaced);
     }
   });
