@@ -535,11 +535,12 @@ void Planner::settleInnerSides(uint32_t root, std::vector<Tile>& tiles) const {
     index.index(tiles);
     replaced.clear();
     for (uint32_t t = 0; t < tiles.size(); ++t) {
-      const Tile& tile = tiles[t];
+      Tile& tile = tiles[t];
       uint8_t sides = 0;
       for (int k = 0; k < 4 && tile.pendingPair; ++k) {
         if (!tile.onRootSide(k) && index.innerSideGetsPoints(tiles, t, k)) sides |= uint8_t(1 << k);
       }
+      tile.innerSidesWithPoints = sides;
       if (tile.pendingPair && tile.boundWithPoints(sides) > tile.tolerance) {
         planSquare(root, tile, sides, replaced);
         failed = true;

@@ -28,6 +28,9 @@ struct Tile {
   // known, `bound` must add the bow of every side that got points beside its corners.
   bool pendingPair = false;
   float sideBow[4] = {0, 0, 0, 0};
+  // A pending tile's sides inside its root that get points beside its own (bit k: side k), as
+  // planning found them (its root's own tiles decide those; the rounds ask only about the rest).
+  uint8_t innerSidesWithPoints = 0;
   // Four sibling one-cell tiles (or cell-wise tiles of one rate) merged: ru = rv = 2^k cells,
   // each triangulated as the one-cell tile it was, its sides keeping their own points; `bound`
   // is the largest of theirs, and when pending, "points beside its corners" means points beside

@@ -254,9 +254,16 @@ std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors
       const uint32_t r = roots[i];
       for (uint32_t t = 0; t < tiles[r].size(); ++t) {
         const Tile& tile = tiles[r][t];
+        // Sides inside the root were checked while planning (Planner::settleInnerSides): only
+        // those on base edges and spokes are asked about.
         if (!tile.pendingPair) continue;
-        uint8_t sides = 0;
-        for (int k = 0; k < 4; ++k) sides |= uint8_t(neighbors.sideGetsPoints(r, t, k) << k);
+        uint8_t sides = tile.innerSidesWithPoints, onRoot = 0;
+        for (int k = 0; k < 4; ++k) {
+          if (!tile.onRootSide(k)) continue;
+          onRoot |= uint8_t(1 << k);
+          sides |= uint8_t(neighbors.sideGetsPoints(r, t, k) << k);
+        }
+        if (onRoot == 0) continue;  // it passed already
         if (tile.boundWithPoints(sides) > tile.tolerance) {
           failed[chunk].push_back({r, tile.level, tile.ix, tile.iy, sides});
         }
