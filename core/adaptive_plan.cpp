@@ -122,14 +122,14 @@ class Planner {
  public:
   Planner(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options)
       : tree_(tree), patches_(patches), options_(options), tolerance_(options, patches) {}
-  void planRoot(uint32_t root, std::vector<Tile>& out) const;
+  void planRoot(uint32_t root, std::vector<Tile>& out, RootTileIndex* index) const;
   // The square of tile `tile` of `root` planned again with no optimistic one-cell tiles; a
   // pending cell-wise tile's square with its quadrants' tiles unmerged, those that the points on
   // `sides` (bit k: the square's side k got points) break planned again without the shortcut.
   void planSquare(uint32_t root, const Tile& tile, uint8_t sides, std::vector<Tile>& out) const;
   // The pending tiles of `root` that its own tiles already break (on sides inside the root)
-  // planned again, until none does.
-  void settleInnerSides(uint32_t root, std::vector<Tile>& tiles) const;
+  // planned again, until none does; `keep`, when given, is left indexing the tiles.
+  void settleInnerSides(uint32_t root, std::vector<Tile>& tiles, RootTileIndex* keep) const;
 
  private:
   struct Candidate {
@@ -511,13 +511,13 @@ void Planner::beginRoot(uint32_t root) const {
   }
 }
 
-void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
+void Planner::planRoot(uint32_t root, std::vector<Tile>& out, RootTileIndex* index) const {
   beginRoot(root);
   conservative_ = false, merging_ = true;
   Candidate top = realCandidate({tree_.roots[root].node, 0, 0, 0});
   plan(top, gridFor(top), out);
   mergeRectangles(tree_, top.real, out);
-  settleInnerSides(root, out);
+  settleInnerSides(root, out, index);
 }
 
 // A pending tile's side inside its root gets its points from the root's own tiles alone, which
@@ -527,8 +527,9 @@ void Planner::planRoot(uint32_t root, std::vector<Tile>& out) const {
 // edges and spokes. (The rounds' outcome depends a little on the order in which squares are planned
 // again, as a square planned again as a grid keeps fewer points on its sides than the cell-wise
 // tile it replaces: docs/ADAPTIVE.md §3.)
-void Planner::settleInnerSides(uint32_t root, std::vector<Tile>& tiles) const {
-  thread_local RootTileIndex index;
+void Planner::settleInnerSides(uint32_t root, std::vector<Tile>& tiles, RootTileIndex* keep) const {
+  thread_local RootTileIndex scratch;
+  RootTileIndex& index = keep ? *keep : scratch;
   thread_local std::vector<Tile> replaced;
   for (bool failed = true; failed;) {
     failed = false;
@@ -587,21 +588,23 @@ uint8_t sidesOnSquare(const Tile& part, const Tile& square, uint8_t sides) {
 
 }  // namespace
 
-void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles) {
+void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles,
+               std::vector<RootTileIndex>* indexes) {
   validateTessellationOptions(options);
   tiles.resize(tree.roots.size());
+  if (indexes) indexes->assign(tree.roots.size(), RootTileIndex());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), chunkFor(tree.roots.size(), 1, 16)), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
     const Planner planner(tree, patches, options);  // one per task: it keeps the current root's state
     for (size_t r = range.begin(); r != range.end(); ++r) {
       tiles[r].clear();
-      if (tree.roots[r].node != kNoNode) planner.planRoot(uint32_t(r), tiles[r]);
+      if (tree.roots[r].node != kNoNode) planner.planRoot(uint32_t(r), tiles[r], indexes ? &(*indexes)[r] : nullptr);
     }
   });
 }
 
 void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
-                   const std::vector<TileSquare>& failed, RootTiles& tiles) {
+                   const std::vector<TileSquare>& failed, RootTiles& tiles, std::vector<RootTileIndex>* indexes) {
   std::vector<std::pair<size_t, size_t>> roots;  // ranges of `failed` with one root
   for (size_t i = 0; i < failed.size();) {
     size_t j = i;
@@ -631,7 +634,7 @@ void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const Tesse
       // The squares planned again settle (their pending quadrants aside): they may merge, and
       // what they now put on sides inside the root is checked there.
       mergeRectangles(tree, {tree.roots[r].node, 0, 0, 0}, replaced);
-      planner.settleInnerSides(r, replaced);
+      planner.settleInnerSides(r, replaced, indexes ? &(*indexes)[r] : nullptr);
       tiles[r].swap(replaced);
     }
   });

@@ -115,17 +115,22 @@ struct TileSquare {
   friend bool operator<(const TileSquare& a, const TileSquare& b) { return a.root < b.root; }
 };
 
+class RootTileIndex;  // core/tile_neighbors.h
+
 // Plans every root into tiles[root]. One-cell tiles may be planned optimistically (pendingPair):
 // the caller checks them against their neighbours (adaptive_tessellator.h) and plans the squares
 // of those that fail again with replanSquares.
 using RootTiles = std::vector<std::vector<Tile>>;
-void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles);
+// With `indexes`, each root's tiles indexed there too (tile_neighbors.h), by the core that planned it.
+void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles,
+               std::vector<RootTileIndex>* indexes = nullptr);
 
 // Each failed pending tile (`failed` sorted by root) replaced in place by the tiles of its square
 // planned without the optimistic shortcut (a merged cell-wise tile's: its quadrants unmerged, the
 // shortcut kept, so that only those that fail on their own lose it next).
 void replanSquares(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options,
-                   const std::vector<TileSquare>& failed, RootTiles& tiles);
+                   const std::vector<TileSquare>& failed, RootTiles& tiles,
+                   std::vector<RootTileIndex>* indexes = nullptr);
 
 AdaptivePlan flattenPlan(const RootTiles& tiles);
 

@@ -294,17 +294,6 @@ std::vector<uint32_t> affectedRoots(const RootSeams& seams, const std::vector<Ti
   return roots;
 }
 
-// The changed roots (`changed` is sorted by root) indexed again, on all cores.
-void reindex(TileNeighbors& neighbors, const std::vector<TileSquare>& changed) {
-  std::vector<uint32_t> roots;
-  for (size_t i = 0; i < changed.size(); ++i) {
-    if (i == 0 || changed[i].root != changed[i - 1].root) roots.push_back(changed[i].root);
-  }
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots.size(), 64), [&](const auto& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) neighbors.reindex(roots[i]);
-  });
-}
-
 // Settles every pending tile's bound from its sides as stitched; false if one breaks its ε (the
 // prediction missed a point: not expected, but then planning goes on conservatively there).
 bool settlePending(AdaptivePlan& plan, const Stitching& stitching, std::vector<TileSquare>& failed) {
@@ -343,8 +332,10 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
   std::vector<uint32_t> roots(surface.tree.roots.size());
   std::iota(roots.begin(), roots.end(), 0u);
   RootTiles tiles;
-  planRoots(surface.tree, patches, options, tiles);
-  TileNeighbors neighbors(surface.rootSeams, tiles);
+  // Each root's tiles indexed for the rounds by the core that planned it.
+  std::vector<RootTileIndex> indexes;
+  planRoots(surface.tree, patches, options, tiles, &indexes);
+  TileNeighbors neighbors(surface.rootSeams, tiles, std::move(indexes));
   FaceTriangles faceTriangles(surface.tree.faceFirstRoot.size());
   for (std::vector<uint32_t> check = roots;;) {
     while (!check.empty()) {
@@ -353,8 +344,7 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
       if (failed.empty()) break;
       // A failed square is planned with no pending tiles (a merged tile's with its quadrants
       // unmerged, which can fail once more), so the rounds end.
-      replanSquares(surface.tree, patches, options, failed, tiles);
-      reindex(neighbors, failed);
+      replanSquares(surface.tree, patches, options, failed, tiles, &neighbors.roots());
       check = affectedRoots(surface.rootSeams, failed, surface.tree.roots.size());
     }
     layout.plan = flattenPlan(tiles);
@@ -375,8 +365,7 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
     if (settled) continue;
     // The failed squares planned again; the other pending tiles stay pending in `tiles` and are
     // checked again with their new neighbours.
-    replanSquares(surface.tree, patches, options, failed, tiles);
-    reindex(neighbors, failed);
+    replanSquares(surface.tree, patches, options, failed, tiles, &neighbors.roots());
     check = roots;
   }
 }

@@ -56,9 +56,11 @@ class RootTileIndex {
 
 class TileNeighbors {
  public:
+  // Every root indexed here, or (the second form) as planning indexed them.
   TileNeighbors(const RootSeams& seams, const RootTiles& tiles);
-  // tiles[root] changed: index it again.
-  void reindex(uint32_t root);
+  TileNeighbors(const RootSeams& seams, const RootTiles& tiles, std::vector<RootTileIndex> roots);
+  // The roots' indexes, which planning keeps up to date as it plans squares again.
+  std::vector<RootTileIndex>& roots() { return roots_; }
   // Whether side k of tiles[root][tile] will get points beside its corners (beside its own grid
   // points, for a cell-wise tile).
   bool sideGetsPoints(uint32_t root, uint32_t tile, int side) const;
