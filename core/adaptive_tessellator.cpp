@@ -254,9 +254,9 @@ std::vector<TileSquare> checkPending(const RootTiles& tiles, const TileNeighbors
       const uint32_t r = roots[i];
       for (uint32_t t = 0; t < tiles[r].size(); ++t) {
         const Tile& tile = tiles[r][t];
+        if (!tile.pendingPair) continue;
         // Sides inside the root were checked while planning (Planner::settleInnerSides): only
         // those on base edges and spokes are asked about.
-        if (!tile.pendingPair) continue;
         uint8_t sides = tile.innerSidesWithPoints, onRoot = 0;
         for (int k = 0; k < 4; ++k) {
           if (!tile.onRootSide(k)) continue;
