@@ -1,8 +1,9 @@
 // Which tile sides will get points beside their corners once seams are stitched, without
-// stitching (docs/ADAPTIVE.md §5): a side does when a smaller tile meets it, when the tile across
+// stitching (docs/ADAPTIVE.md §3): a side does when a smaller tile meets it, when the tile across
 // has cells along it shorter than the side, or when the tile across is a strip or a cell-wise
-// tile, whose own points it must keep, and one falls inside the side (tile_stitching.h's rules). Lets planning settle
-// the one-cell tiles it planned on their corners' bound alone in cheap rounds.
+// tile, whose own points it must keep, and one falls inside the side (tile_stitching.h's rules).
+// Lets planning settle the one-cell tiles it planned on their corners' bound alone: the sides
+// inside a root as soon as the root is planned (RootTileIndex), the others in cheap rounds.
 #pragma once
 
 #include <cstdint>
