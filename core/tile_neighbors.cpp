@@ -84,17 +84,13 @@ void RootTileIndex::index(const std::vector<Tile>& tiles) {
       for (uint64_t ix = tile.ix; ix < tile.ixEnd(); ++ix) entries_.push_back({tile.level, ix, iy, t});
     }
   }
-  std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
-    return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
-  });
+  std::sort(entries_.begin(), entries_.end());
 }
 
 uint32_t RootTileIndex::covering(int level, uint64_t ix, uint64_t iy) const {
   for (int l = level; l >= 0; --l) {
     const Entry key{l, ix >> (level - l), iy >> (level - l), 0};
-    const auto found = std::lower_bound(entries_.begin(), entries_.end(), key, [](const Entry& a, const Entry& b) {
-      return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
-    });
+    const auto found = std::lower_bound(entries_.begin(), entries_.end(), key);
     if (found != entries_.end() && found->level == l && found->ix == key.ix && found->iy == key.iy) return found->tile;
   }
   return UINT32_MAX;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <tuple>
 #include <vector>
 
 #include "core/adaptive_plan.h"
@@ -51,6 +52,9 @@ class RootTileIndex {
     int level;
     uint64_t ix, iy;
     uint32_t tile;
+    friend bool operator<(const Entry& a, const Entry& b) {
+      return std::tie(a.level, a.ix, a.iy) < std::tie(b.level, b.ix, b.iy);
+    }
   };
   std::vector<Entry> entries_;  // sorted by (level, ix, iy)
 };
