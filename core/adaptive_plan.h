@@ -28,6 +28,11 @@ struct Tile {
   // known, `bound` must add the bow of every side that got points beside its corners.
   bool pendingPair = false;
   float sideBow[4] = {0, 0, 0, 0};
+  // A pending tile's grid without the shortcut, when planning found it small enough to be emitted
+  // as it is (no split could save enough): what planning the tile again makes, so a tile that fails
+  // its check takes it in place (settledRu = 0: none; planned again from its node).
+  uint8_t settledRu = 0, settledRv = 0, settledDiagonal = 0;
+  float settledBound = 0;
   // A pending tile's sides inside its root that get points beside its own (bit k: side k), as
   // planning found them (its root's own tiles decide those; the rounds ask only about the rest).
   uint8_t innerSidesWithPoints = 0;
