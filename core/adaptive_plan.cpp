@@ -639,13 +639,17 @@ void planRoots(const SurfaceTree& tree, const PatchSet& patches, const Tessellat
                std::vector<RootTileIndex>* indexes) {
   validateTessellationOptions(options);
   tiles.resize(tree.roots.size());
-  if (indexes) indexes->assign(tree.roots.size(), RootTileIndex());
+  if (indexes) indexes->resize(tree.roots.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), chunkFor(tree.roots.size(), 1, 16)), [&](const auto& range) {
     if (options.checkpoint) options.checkpoint();
     const Planner planner(tree, patches, options);  // one per task: it keeps the current root's state
     for (size_t r = range.begin(); r != range.end(); ++r) {
       tiles[r].clear();
-      if (tree.roots[r].node != kNoNode) planner.planRoot(uint32_t(r), tiles[r], indexes ? &(*indexes)[r] : nullptr);
+      if (tree.roots[r].node != kNoNode) {
+        planner.planRoot(uint32_t(r), tiles[r], indexes ? &(*indexes)[r] : nullptr);
+      } else if (indexes) {
+        (*indexes)[r].index(tiles[r]);  // a hole: nothing (the index may hold an earlier call's)
+      }
     }
   });
 }

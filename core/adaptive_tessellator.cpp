@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/face_triangles.h"
 #include "core/parallel_chunks.h"
+#include "core/plan_scratch.h"
 #include "core/tile_stitching.h"
 #include "core/tile_triangulation.h"
 
@@ -331,11 +332,11 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
   AdaptiveLayout layout;
   std::vector<uint32_t> roots(surface.tree.roots.size());
   std::iota(roots.begin(), roots.end(), 0u);
-  RootTiles tiles;
+  const PlanScratchLease scratch;
+  RootTiles& tiles = (*scratch).tiles;
   // Each root's tiles indexed for the rounds by the core that planned it.
-  std::vector<RootTileIndex> indexes;
-  planRoots(surface.tree, patches, options, tiles, &indexes);
-  TileNeighbors neighbors(surface.rootSeams, tiles, std::move(indexes));
+  planRoots(surface.tree, patches, options, tiles, &(*scratch).indexes);
+  TileNeighbors neighbors(surface.rootSeams, tiles, (*scratch).indexes);
   FaceTriangles faceTriangles(surface.tree.faceFirstRoot.size());
   for (std::vector<uint32_t> check = roots;;) {
     while (!check.empty()) {

@@ -66,14 +66,14 @@ RootSeams::RootSeams(const SurfaceTree& tree, const SeamTopology& seams) {
 }
 
 TileNeighbors::TileNeighbors(const RootSeams& seams, const RootTiles& tiles)
-    : seams_(seams), tiles_(tiles), roots_(tiles.size()) {
+    : seams_(seams), tiles_(tiles), own_(tiles.size()), roots_(own_) {
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(tiles.size()), 64), [&](const auto& range) {
     for (uint32_t r = range.begin(); r != range.end(); ++r) roots_[r].index(tiles[r]);
   });
 }
 
-TileNeighbors::TileNeighbors(const RootSeams& seams, const RootTiles& tiles, std::vector<RootTileIndex> roots)
-    : seams_(seams), tiles_(tiles), roots_(std::move(roots)) {}
+TileNeighbors::TileNeighbors(const RootSeams& seams, const RootTiles& tiles, std::vector<RootTileIndex>& roots)
+    : seams_(seams), tiles_(tiles), roots_(roots) {}
 
 void RootTileIndex::index(const std::vector<Tile>& tiles) {
   entries_.clear();

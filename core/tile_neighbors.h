@@ -6,6 +6,7 @@
 // inside a root as soon as the root is planned (RootTileIndex), the others in cheap rounds.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <tuple>
 #include <vector>
@@ -38,6 +39,12 @@ struct RootSeams {
 class RootTileIndex {
  public:
   void index(const std::vector<Tile>& tiles);
+  // Emptied, its room kept (core/plan_scratch.h); returns the bytes held.
+  size_t clearKeepingRoom() {
+    const size_t bytes = entries_.capacity() * sizeof(Entry);
+    entries_.clear();
+    return bytes;
+  }
   // The tile covering square (level, ix, iy), UINT32_MAX when smaller tiles do.
   uint32_t covering(int level, uint64_t ix, uint64_t iy) const;
   // Whether the tile across square (level, ix, iy)'s side `side` puts points strictly inside that
@@ -63,7 +70,7 @@ class TileNeighbors {
  public:
   // Every root indexed here, or (the second form) as planning indexed them.
   TileNeighbors(const RootSeams& seams, const RootTiles& tiles);
-  TileNeighbors(const RootSeams& seams, const RootTiles& tiles, std::vector<RootTileIndex> roots);
+  TileNeighbors(const RootSeams& seams, const RootTiles& tiles, std::vector<RootTileIndex>& roots);
   // The roots' indexes, which planning keeps up to date as it plans squares again.
   std::vector<RootTileIndex>& roots() { return roots_; }
   // Whether side k of tiles[root][tile] will get points beside its corners (beside its own grid
@@ -76,7 +83,8 @@ class TileNeighbors {
 
   const RootSeams& seams_;
   const RootTiles& tiles_;
-  std::vector<RootTileIndex> roots_;
+  std::vector<RootTileIndex> own_;     // the first form's
+  std::vector<RootTileIndex>& roots_;  // own_, or planning's
 };
 
 }  // namespace tessera
