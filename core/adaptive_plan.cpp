@@ -394,9 +394,12 @@ Rates Planner::gridFor(Candidate& c) const {
 }
 
 // The pair left pending, or the settled grid where the pair would save too little (kPendingSaving).
+// A root's own square is left pending whatever it saves: its sides lie on base edges and spokes,
+// across which the neighbours are whole roots too where ε is coarse, and those pass (bigguy at
+// 1e-2 keeps one cell a face, 2,900 triangles, where the rule would make 3,138, in 4 % less time).
 Rates Planner::pairOrSettledGrid(Candidate& c, double epsilon) const {
   const Rates settled = settledGridFor(c, epsilon, 1);
-  if (settled.feasible() && settled.triangles() - 2 < kPendingSaving) return settled;
+  if (c.level > 0 && settled.feasible() && settled.triangles() - 2 < kPendingSaving) return settled;
   Rates pair{1, 1, c.pair, true, c.diagonal};
   // Planning the square again would emit the settled grid without a split (plan()): a tile that
   // fails its check takes it in place.
