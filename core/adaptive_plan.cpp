@@ -32,7 +32,8 @@ constexpr int64_t kSplitSaving = 8;
 // three in four) and are planned again, and a failure cost more than the triangles it could
 // save: on the nine benchmark models at 1e-2..1e-4, against leaving every such tile pending, 7
 // took bigguy at 1e-3 from 6.4 to 5.3 ms on one thread (t-rex at 1e-4 −10 %, monsterfrog at 1e-3
-// −9 %) for 2.8 % more triangles summed (docs/ADAPTIVE.md §3).
+// −9 %) for 2.8 % more triangles summed; 2.7 % with roots' own squares excepted (pairOrSettledGrid,
+// docs/ADAPTIVE.md §3).
 constexpr int64_t kPendingSaving = 7;
 // How far below a leaf piece de Casteljau may split it, and the deepest tile level at all
 // (tile coordinates stay exact integers).
