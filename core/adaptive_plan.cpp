@@ -10,6 +10,7 @@
 #include "core/adaptive_surface.h"
 #include "core/dyadic.h"
 #include "core/edge_curvature.h"
+#include "core/grid_rates.h"
 #include "core/parallel_chunks.h"
 #include "core/tile_neighbors.h"
 #include "core/tile_rectangles.h"
@@ -39,52 +40,6 @@ constexpr int64_t kPendingSaving = 7;
 // (tile coordinates stay exact integers).
 constexpr int kMaxSplitBelowLeaf = 16;
 constexpr int kMaxTileLevel = 48;
-
-struct Rates {
-  int ru = 1, rv = 1;
-  double bound = kInfinity;
-  bool optimistic = false;  // a (1, 1) pair whose sides must stay free of points beside the corners
-  uint8_t diagonal = 0;     // a (1, 1) pair bound that holds along this diagonal only (Tile::diagonal)
-  // An optimistic pair's settled grid, when planning the square again would emit it (Tile::settledRu).
-  uint8_t settledRu = 0, settledRv = 0, settledDiagonal = 0;
-  double settledBound = 0;
-  bool feasible() const { return bound < kInfinity; }
-  int64_t triangles() const { return 2 * int64_t(ru) * rv; }
-};
-
-// The fewest cells ru · rv with (w² M_uu + 2 w h M_uv + h² M_vv) / 8 ≤ ε for w = s/ru, h = s/rv
-// (docs/ADAPTIVE.md §2): for each ru the smallest rv solves a quadratic in 1/rv.
-Rates ratesFor(const Curvature& m, double size, double epsilon, int minRate = 1) {
-  Rates best;
-  if (!m.finite() || !(epsilon > 0)) return best;
-  const double a = m.uu * size * size, b = m.uv * size * size, c = m.vv * size * size;
-  const double target = 8 * epsilon;
-  // However many cells along u, rv ≥ √(c / 8ε) (the h² M_vv term alone): past the ru where even
-  // that gives more cells than the best so far, nothing better follows (the floor lowered by a
-  // hair so that rounding in the bound never skips a tie).
-  const double rvFloor = std::max(double(minRate), std::sqrt(c / target) * (1 - 1e-9));
-  int64_t bestCells = std::numeric_limits<int64_t>::max();
-  for (int ru = minRate; ru <= kMaxTileRate && ru < bestCells && double(ru) * rvFloor <= double(bestCells); ++ru) {
-    const double k = target - a / (double(ru) * ru);
-    if (k <= 0) continue;
-    double rvReal = 1;
-    if (c > 0) {
-      const double y = (-b / ru + std::sqrt(b * b / (double(ru) * ru) + c * k)) / c;
-      rvReal = 1 / y;
-    } else if (b > 0) {
-      rvReal = 2 * b / (k * ru);
-    }
-    int rv = std::max(minRate, int(std::ceil(std::min(rvReal, double(kMaxTileRate + 1)) - 1e-9)));
-    while (rv <= kMaxTileRate && interpolationBound(m, size / ru, size / rv) > epsilon) ++rv;
-    if (rv > kMaxTileRate) continue;
-    const int64_t cells = int64_t(ru) * rv;
-    if (cells < bestCells || (cells == bestCells && std::abs(ru - rv) < std::abs(best.ru - best.rv))) {
-      bestCells = cells;
-      best = {ru, rv, interpolationBound(m, size / ru, size / rv)};
-    }
-  }
-  return best;
-}
 
 // The (1, 1) grid's bounds for an exact piece (SurfaceNode::pairBound and sideBow with r = 0):
 // the pair, and what points on each side add (needed only where the pair is within ε).
