@@ -333,10 +333,10 @@ AdaptiveLayout layoutAdaptive(const PatchSet& patches, const AdaptiveSurface& su
   std::vector<uint32_t> roots(surface.tree.roots.size());
   std::iota(roots.begin(), roots.end(), 0u);
   const PlanScratchLease scratch;
-  RootTiles& tiles = (*scratch).tiles;
+  RootTiles& tiles = scratch->tiles;
   // Each root's tiles indexed for the rounds by the core that planned it.
-  planRoots(surface.tree, patches, options, tiles, &(*scratch).indexes);
-  TileNeighbors neighbors(surface.rootSeams, tiles, (*scratch).indexes);
+  planRoots(surface.tree, patches, options, tiles, &scratch->indexes);
+  TileNeighbors neighbors(surface.rootSeams, tiles, scratch->indexes);
   FaceTriangles faceTriangles(surface.tree.faceFirstRoot.size());
   for (std::vector<uint32_t> check = roots;;) {
     while (!check.empty()) {

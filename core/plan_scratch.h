@@ -42,7 +42,7 @@ class PlanScratchLease {
   PlanScratchLease(const PlanScratchLease&) = delete;
   PlanScratchLease& operator=(const PlanScratchLease&) = delete;
   ~PlanScratchLease() { planScratchPool().give(std::move(scratch_)); }
-  PlanScratch& operator*() const { return *scratch_; }
+  PlanScratch* operator->() const { return scratch_.get(); }
 
  private:
   std::unique_ptr<PlanScratch> scratch_;
