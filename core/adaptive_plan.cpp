@@ -599,10 +599,10 @@ void planRoots(const SurfaceTree& tree, const PatchSet& patches, const Tessellat
   validateTessellationOptions(options);
   tiles.resize(tree.roots.size());
   if (indexes) indexes->resize(tree.roots.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.roots.size(), chunkFor(tree.roots.size(), 1, 16)), [&](const auto& range) {
+  forOwnedParts(tree.roots.size(), 16, [&](size_t, size_t first, size_t last) {
     if (options.checkpoint) options.checkpoint();
-    const Planner planner(tree, patches, options);  // one per task: it keeps the current root's state
-    for (size_t r = range.begin(); r != range.end(); ++r) {
+    const Planner planner(tree, patches, options);  // one per part: it keeps the current root's state
+    for (size_t r = first; r != last; ++r) {
       tiles[r].clear();
       if (tree.roots[r].node != kNoNode) {
         planner.planRoot(uint32_t(r), tiles[r], indexes ? &(*indexes)[r] : nullptr);

@@ -116,15 +116,14 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   }
   for (size_t i = stitching.copyFirst; i < count; ++i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
 
+  // Runs are the parts that planned and stitched their roots (parallel_chunks.h).
   const size_t roots = plan.rootFirstTile.size() - 1;
-  const size_t run = chunkFor(roots, 1, 16);
-  const size_t runs = (roots + run - 1) / run;
+  const size_t runs = ownedParts(roots, 16);
   std::vector<TileTriangleOutput> outputs(runs);
   std::vector<std::vector<uint32_t>> tiles(runs);
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
-  tbb::parallel_for(size_t(0), runs, [&](size_t r) {
+  forOwnedParts(roots, 16, [&](size_t r, size_t firstRoot, size_t endRoot) {
     if (checkpoint) checkpoint();
-    const size_t firstRoot = r * run, endRoot = std::min(roots, (r + 1) * run);
     if (!evaluated) {
       evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record,
                     stitching.rootFirstVertex[firstRoot], stitching.rootFirstVertex[endRoot], mesh);

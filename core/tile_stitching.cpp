@@ -110,7 +110,7 @@ class Stitcher {
   Stitcher(const Stitcher&) = delete;
   Stitcher& operator=(const Stitcher&) = delete;
   ~Stitcher() {
-    for (std::unique_ptr<Arena>& arena : arenas_) arenaPool().give(std::move(arena));
+    for (SlotArena& arena : arenas_) arenaPool().give(std::move(arena.arena), arena.slot);
   }
   Stitching run();
 
@@ -133,7 +133,15 @@ class Stitcher {
   const SurfaceTree& tree_;
   const SeamLines& lines_;
   const std::function<void()>& checkpoint_;
-  tbb::enumerable_thread_specific<std::unique_ptr<Arena>> arenas_{[] { return arenaPool().take(); }};
+  // Each thread's arena, from the pool, the one this slot gave back where it can (scratch_pool.h).
+  struct SlotArena {
+    std::unique_ptr<Arena> arena;
+    int slot;
+  };
+  tbb::enumerable_thread_specific<SlotArena> arenas_{[] {
+    const int slot = tbb::this_task_arena::current_thread_index();
+    return SlotArena{arenaPool().take(slot), slot};
+  }};
   std::vector<uint32_t> tileRoot_;
   std::vector<RootSlice> slices_;
   std::vector<Slot> innerSide_;      // per tile side 4t + k inside its root: its points in the arena's pool
@@ -559,13 +567,18 @@ void Stitcher::assemble() {
   for (uint32_t v = seamFirst_; v < seamFirst_ + nodeVertices_.size(); ++v) out_.vertices[v].positionOf = v;
   const size_t roots = slices_.size();
   normalClaims_.resize(roots);
-  tbb::parallel_for(size_t(0), roots + records_.size(), [&](size_t i) {
-    if (i < roots) return assembleRoot(uint32_t(i));
-    const LineRecord& record = records_[i - roots];
-    if (record.ownCount == 0) return;
-    const uint32_t first = seamFirst_ + record.firstOwn;
-    std::copy_n(record.arena->ownPoints.begin() + record.ownFrom, record.ownCount, out_.vertices.begin() + first);
-    for (uint32_t v = first; v < first + record.ownCount; ++v) out_.vertices[v].positionOf = v;
+  // Roots and lines by the parts that stitched them (parallel_chunks.h): the same cores.
+  forOwnedParts(roots, 16, [&](size_t, size_t first, size_t last) {
+    for (size_t r = first; r < last; ++r) assembleRoot(uint32_t(r));
+  });
+  forOwnedParts(records_.size(), 32, [&](size_t, size_t first, size_t last) {
+    for (size_t l = first; l < last; ++l) {
+      const LineRecord& record = records_[l];
+      if (record.ownCount == 0) continue;
+      const uint32_t from = seamFirst_ + record.firstOwn;
+      std::copy_n(record.arena->ownPoints.begin() + record.ownFrom, record.ownCount, out_.vertices.begin() + from);
+      for (uint32_t v = from; v < from + record.ownCount; ++v) out_.vertices[v].positionOf = v;
+    }
   });
 }
 
@@ -617,18 +630,17 @@ Stitching Stitcher::run() {
   innerSide_.assign(4 * tiles, {});
   boundarySide_.assign(4 * tiles, {});
   gridLocal_.resize(tiles);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, roots, chunkFor(roots, 1, 16)), [&](const auto& range) {
+  forOwnedParts(roots, 16, [&](size_t, size_t first, size_t last) {
     if (checkpoint_) checkpoint_();
-    Arena& a = *arenas_.local();
-    for (size_t r = range.begin(); r != range.end(); ++r) {
+    Arena& a = *arenas_.local().arena;
+    for (size_t r = first; r != last; ++r) {
       if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), a);
     }
   });
   records_.resize(lines_.lines.size());
-  const uint32_t lineChunk = uint32_t(chunkFor(lines_.lines.size(), 1, 32));
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(lines_.lines.size()), lineChunk), [&](const auto& range) {
-    Arena& a = *arenas_.local();
-    for (uint32_t l = range.begin(); l != range.end(); ++l) resolveBoundaryLine(l, a);
+  forOwnedParts(lines_.lines.size(), 32, [&](size_t, size_t first, size_t last) {
+    Arena& a = *arenas_.local().arena;
+    for (size_t l = first; l != last; ++l) resolveBoundaryLine(uint32_t(l), a);
   });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
