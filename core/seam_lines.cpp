@@ -69,11 +69,18 @@ SeamLines::SeamLines(const SurfaceTree& tree, const SeamTopology& seams, int ver
     lines[l].node[2] = uint32_t(vertexCount) + uint32_t(face);
   }
   nodeCount = uint32_t(vertexCount) + faceCount + uint32_t(lines.size());
+  rootFirstLine.assign(tree.roots.size() + 1, 0);
+  for (const Line& line : lines) ++rootFirstLine[rootSides[line.firstSide] / 4 + 1];
+  for (size_t r = 0; r < tree.roots.size(); ++r) rootFirstLine[r + 1] += rootFirstLine[r];
+  linesByRoot.resize(lines.size());
+  std::vector<uint32_t> next(rootFirstLine.begin(), rootFirstLine.end() - 1);
+  for (uint32_t l = 0; l < lines.size(); ++l) linesByRoot[next[rootSides[lines[l].firstSide] / 4]++] = l;
 }
 
 size_t SeamLines::bytes() const {
   return lines.size() * sizeof(Line) + rootSides.size() * sizeof(uint32_t) + lineOf.size() * sizeof(uint32_t) +
-         sideLine.size() * sizeof(SideLine) + cornerQualifier.size() * sizeof(int);
+         sideLine.size() * sizeof(SideLine) + cornerQualifier.size() * sizeof(int) +
+         (linesByRoot.size() + rootFirstLine.size()) * sizeof(uint32_t);
 }
 
 }  // namespace tessera

@@ -28,6 +28,10 @@ struct SeamLines {
   // Per root corner 4r + c (c: (0,0), (1,0), (1,1), (0,1)): how a vertex there splits its normal
   // for this root (seam_topology.h's qualifier).
   std::vector<int> cornerQualifier;
+  // The lines by the root of their first side (the lowest): root r's are
+  // linesByRoot[rootFirstLine[r], rootFirstLine[r + 1]). Stitching resolves a line on the core
+  // that stitched that root (parallel_chunks.h).
+  std::vector<uint32_t> linesByRoot, rootFirstLine;
   // Nodes: base vertices [0, V), n-gon centres V + face, edge middles V + F + line.
   uint32_t nodeCount = 0;
 

@@ -567,13 +567,11 @@ void Stitcher::assemble() {
   for (uint32_t v = seamFirst_; v < seamFirst_ + nodeVertices_.size(); ++v) out_.vertices[v].positionOf = v;
   const size_t roots = slices_.size();
   normalClaims_.resize(roots);
-  // Roots and lines by the parts that stitched them (parallel_chunks.h): the same cores.
+  // Roots and their lines by the parts that stitched them (parallel_chunks.h): the same cores.
   forOwnedParts(roots, 16, [&](size_t, size_t first, size_t last) {
     for (size_t r = first; r < last; ++r) assembleRoot(uint32_t(r));
-  });
-  forOwnedParts(records_.size(), 32, [&](size_t, size_t first, size_t last) {
-    for (size_t l = first; l < last; ++l) {
-      const LineRecord& record = records_[l];
+    for (uint32_t i = lines_.rootFirstLine[first]; i < lines_.rootFirstLine[last]; ++i) {
+      const LineRecord& record = records_[lines_.linesByRoot[i]];
       if (record.ownCount == 0) continue;
       const uint32_t from = seamFirst_ + record.firstOwn;
       std::copy_n(record.arena->ownPoints.begin() + record.ownFrom, record.ownCount, out_.vertices.begin() + from);
@@ -638,9 +636,12 @@ Stitching Stitcher::run() {
     }
   });
   records_.resize(lines_.lines.size());
-  forOwnedParts(lines_.lines.size(), 32, [&](size_t, size_t first, size_t last) {
+  // Each line by the part that stitched the root of its first side.
+  forOwnedParts(roots, 16, [&](size_t, size_t first, size_t last) {
     Arena& a = *arenas_.local().arena;
-    for (size_t l = first; l != last; ++l) resolveBoundaryLine(uint32_t(l), a);
+    for (uint32_t i = lines_.rootFirstLine[first]; i < lines_.rootFirstLine[last]; ++i) {
+      resolveBoundaryLine(lines_.linesByRoot[i], a);
+    }
   });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
