@@ -102,27 +102,14 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   }
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
-  const size_t seamFirst = stitching.rootFirstVertex.back();
   const bool evaluated = external && external->evaluate(plan, stitching, mesh.positions, mesh.normals);
-  if (evaluated) {
-    if (record) recordRange(surface, stitching, tileRoot, 0, count, mesh);
-  } else {
-    tbb::parallel_for(tbb::blocked_range<size_t>(seamFirst, count, chunkFor(count - seamFirst, 64, 1024)),
-                      [&](const auto& range) {
-                        if (checkpoint) checkpoint();
-                        evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record, range.begin(),
-                                      range.end(), mesh);
-                      });
-  }
-  for (size_t i = stitching.copyFirst; i < count; ++i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
-
   // Runs are the parts that planned and stitched their roots (parallel_chunks.h).
   const size_t roots = plan.rootFirstTile.size() - 1;
   const size_t runs = ownedParts(roots, 16);
   std::vector<TileTriangleOutput> outputs(runs);
   std::vector<std::vector<uint32_t>> tiles(runs);
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
-  forOwnedParts(roots, 16, [&](size_t r, size_t firstRoot, size_t endRoot) {
+  auto triangulateRun = [&](size_t r, size_t firstRoot, size_t endRoot) {
     if (checkpoint) checkpoint();
     if (!evaluated) {
       evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record,
@@ -141,7 +128,34 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
       triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, outputs[r]);
       if (record) tiles[r].insert(tiles[r].end(), (outputs[r].indices.size() - before) / 3, uint32_t(t));
     }
-  });
+  };
+  if (evaluated) {
+    if (record) recordRange(surface, stitching, tileRoot, 0, count, mesh);
+    for (size_t i = stitching.copyFirst; i < count; ++i) mesh.positions[i] = mesh.positions[stitching.vertices[i].positionOf];
+    forOwnedParts(roots, 16, triangulateRun);
+    return concatenateRuns(outputs, tiles, record, mesh);
+  }
+  // The seam vertices, each part an even share, before any run triangulates (in one parallel
+  // region: parallel_chunks.h). A copy takes its original's position by evaluating the original's
+  // point again (the same call, so the same bits), not from the original, which another part may
+  // not have reached yet.
+  const size_t seamFirst = stitching.rootFirstVertex.back(), copyFirst = stitching.copyFirst;
+  auto share = [runs](size_t first, size_t end, size_t p) {
+    return std::pair(first + p * (end - first) / runs, first + (p + 1) * (end - first) / runs);
+  };
+  auto evaluateSeams = [&](size_t p, size_t, size_t) {
+    if (checkpoint) checkpoint();
+    SurfaceEvaluator& evaluator = evaluators.local();
+    const auto [seamsFrom, seamsTo] = share(seamFirst, copyFirst, p);
+    const auto [copiesFrom, copiesTo] = share(copyFirst, count, p);
+    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, seamsFrom, seamsTo, mesh);
+    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, copiesFrom, copiesTo, mesh);
+    for (size_t i = copiesFrom; i < copiesTo; ++i) {
+      const VertexRequest& original = stitching.vertices[stitching.vertices[i].positionOf];
+      mesh.positions[i] = Vec3(evaluator.evaluate(plan.tiles[original.tile].node, original.u, original.v).position);
+    }
+  };
+  forOwnedPartsTwice(roots, 16, evaluateSeams, triangulateRun);
   return concatenateRuns(outputs, tiles, record, mesh);
 }
 

@@ -38,6 +38,13 @@ inline size_t ownedParts(size_t n, size_t most) {
   return std::min(n, std::max(4 * threads, (n + most - 1) / most));
 }
 
+// A busy wait's pause (a hint to the core; nothing elsewhere).
+inline void spinPause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
 // body(part, first, last) for the items [first, last) of each of ownedParts(n, most) parts.
 template <typename Body>
 void forOwnedParts(size_t n, size_t most, const Body& body) {
@@ -55,6 +62,55 @@ void forOwnedParts(size_t n, size_t most, const Body& body) {
         const size_t slot = size_t(std::max(0, tbb::this_task_arena::current_thread_index())) % threads;
         for (size_t p = slot * parts / threads; p < (slot + 1) * parts / threads; ++p) run(p);
         for (size_t p = parts; p-- > 0;) run(p);
+      },
+      tbb::static_partitioner());
+}
+
+// forOwnedParts(n, most, first), then forOwnedParts(n, most, second), in one parallel region: a
+// thread out of first's parts waits (spinning: the parts it waits for are running on another
+// thread) until all are done, then takes second's. A parallel region of two ~3 µs tasks took
+// 11.7 µs with the cores far apart and 6.9 µs close; the wait costs part of that again, so two
+// regions made one (stitching, evaluation) took 1 % off the creased torus at 1e-3 in either
+// placement. If `first` throws, second is skipped and the exception propagates.
+template <typename First, typename Second>
+void forOwnedPartsTwice(size_t n, size_t most, const First& first, const Second& second) {
+  const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+  const size_t parts = ownedParts(n, most);
+  if (parts == 0) return;
+  std::unique_ptr<std::atomic<bool>[]> taken(new std::atomic<bool>[2 * parts]);
+  for (size_t p = 0; p < 2 * parts; ++p) taken[p].store(false, std::memory_order_relaxed);
+  std::atomic<size_t> firstDone{0};
+  std::atomic<bool> failed{false};
+  auto runFirst = [&](size_t p) {
+    if (taken[p].exchange(true, std::memory_order_acq_rel)) return;
+    struct Count {
+      std::atomic<size_t>& done;
+      ~Count() { done.fetch_add(1, std::memory_order_release); }
+    } count{firstDone};
+    try {
+      first(p, p * n / parts, (p + 1) * n / parts);
+    } catch (...) {
+      failed.store(true, std::memory_order_relaxed);
+      throw;
+    }
+  };
+  auto runSecond = [&](size_t p) {
+    if (!taken[parts + p].exchange(true, std::memory_order_acq_rel)) second(p, p * n / parts, (p + 1) * n / parts);
+  };
+  tbb::parallel_for(
+      size_t(0), std::min(threads, parts),
+      [&](size_t) {
+        const size_t slot = size_t(std::max(0, tbb::this_task_arena::current_thread_index())) % threads;
+        const size_t own = slot * parts / threads, ownEnd = (slot + 1) * parts / threads;
+        for (size_t p = own; p < ownEnd; ++p) runFirst(p);
+        for (size_t p = parts; p-- > 0;) runFirst(p);
+        while (firstDone.load(std::memory_order_acquire) < parts) {
+          if (failed.load(std::memory_order_relaxed)) return;
+          spinPause();
+        }
+        if (failed.load(std::memory_order_relaxed)) return;
+        for (size_t p = own; p < ownEnd; ++p) runSecond(p);
+        for (size_t p = parts; p-- > 0;) runSecond(p);
       },
       tbb::static_partitioner());
 }

@@ -628,21 +628,24 @@ Stitching Stitcher::run() {
   innerSide_.assign(4 * tiles, {});
   boundarySide_.assign(4 * tiles, {});
   gridLocal_.resize(tiles);
-  forOwnedParts(roots, 16, [&](size_t, size_t first, size_t last) {
-    if (checkpoint_) checkpoint_();
-    Arena& a = *arenas_.local().arena;
-    for (size_t r = first; r != last; ++r) {
-      if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), a);
-    }
-  });
   records_.resize(lines_.lines.size());
-  // Each line by the part that stitched the root of its first side.
-  forOwnedParts(roots, 16, [&](size_t, size_t first, size_t last) {
-    Arena& a = *arenas_.local().arena;
-    for (uint32_t i = lines_.rootFirstLine[first]; i < lines_.rootFirstLine[last]; ++i) {
-      resolveBoundaryLine(lines_.linesByRoot[i], a);
-    }
-  });
+  // The roots, then each line by the part that stitched the root of its first side (all of its
+  // roots stitched by then).
+  forOwnedPartsTwice(
+      roots, 16,
+      [&](size_t, size_t first, size_t last) {
+        if (checkpoint_) checkpoint_();
+        Arena& a = *arenas_.local().arena;
+        for (size_t r = first; r != last; ++r) {
+          if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), a);
+        }
+      },
+      [&](size_t, size_t first, size_t last) {
+        Arena& a = *arenas_.local().arena;
+        for (uint32_t i = lines_.rootFirstLine[first]; i < lines_.rootFirstLine[last]; ++i) {
+          resolveBoundaryLine(lines_.linesByRoot[i], a);
+        }
+      });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
   assemble();

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <vector>
 
 #include "core/parallel_chunks.h"
@@ -77,6 +78,52 @@ TEST(OwnedParts, EachSlotRunsItsOwnPartsFirst) {
         EXPECT_TRUE(first >= slot * 4 && first < (slot + 1) * 4) << "slot " << slot << " began with part " << first;
       }
     }
+  });
+}
+
+// Both steps see every item once, and no item of the second before every item of the first.
+TEST(OwnedParts, TwiceRunsTheSecondStepAfterAllOfTheFirst) {
+  for (int threads : {1, 2, 4}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      for (size_t n : {size_t(1), size_t(7), size_t(32), size_t(3000)}) {
+        std::vector<std::atomic<int>> first(n), second(n);
+        std::atomic<size_t> firstDone{0};
+        std::atomic<bool> early{false};
+        forOwnedPartsTwice(
+            n, 16,
+            [&](size_t, size_t from, size_t to) {
+              for (size_t i = from; i < to; ++i) first[i].fetch_add(1);
+              firstDone.fetch_add(to - from);
+            },
+            [&](size_t, size_t from, size_t to) {
+              if (firstDone.load() != n) early = true;
+              for (size_t i = from; i < to; ++i) second[i].fetch_add(1);
+            });
+        EXPECT_FALSE(early.load()) << threads << " threads, " << n << " items";
+        for (size_t i = 0; i < n; ++i) {
+          EXPECT_EQ(first[i].load(), 1) << "item " << i;
+          EXPECT_EQ(second[i].load(), 1) << "item " << i;
+        }
+      }
+    });
+  }
+}
+
+// A first step that throws (a cancelled request's checkpoint) ends the call: no thread waits
+// for it forever, the second step does not run, and the exception reaches the caller.
+TEST(OwnedParts, TwiceStopsWhereTheFirstStepThrows) {
+  tbb::task_arena arena(2);
+  arena.execute([&] {
+    std::atomic<int> secondRan{0};
+    EXPECT_THROW(forOwnedPartsTwice(
+                     64, 16,
+                     [&](size_t part, size_t, size_t) {
+                       if (part == 5) throw std::runtime_error("cancelled");
+                     },
+                     [&](size_t, size_t, size_t) { secondRan.fetch_add(1); }),
+                 std::runtime_error);
+    EXPECT_EQ(secondRan.load(), 0);
   });
 }
 
