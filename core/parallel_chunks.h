@@ -71,7 +71,9 @@ void forOwnedParts(size_t n, size_t most, const Body& body) {
 // thread) until all are done, then takes second's. A parallel region of two ~3 µs tasks took
 // 11.7 µs with the cores far apart and 6.9 µs close; the wait costs part of that again, so two
 // regions made one (stitching, evaluation) took 1 % off the creased torus at 1e-3 in either
-// placement. If `first` throws, second is skipped and the exception propagates.
+// placement. If `first` throws, second is skipped and the exception propagates. Neither body
+// may start TBB work of its own: a thread stealing inside it could take this region's other task
+// and wait there for the very part it is running.
 template <typename First, typename Second>
 void forOwnedPartsTwice(size_t n, size_t most, const First& first, const Second& second) {
   const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
