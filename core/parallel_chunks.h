@@ -38,32 +38,49 @@ inline size_t ownedParts(size_t n, size_t most) {
   return std::min(n, std::max(4 * threads, (n + most - 1) / most));
 }
 
+// The ownedParts(n, most) parts of one step, each run once by whichever thread claims it first.
+class OwnedPartClaims {
+ public:
+  OwnedPartClaims(size_t n, size_t most)
+      : n_(n), threads_(size_t(std::max(1, tbb::this_task_arena::max_concurrency()))),
+        parts_(ownedParts(n, most)), taken_(new std::atomic<bool>[parts_]) {
+    for (size_t p = 0; p < parts_; ++p) taken_[p].store(false, std::memory_order_relaxed);
+  }
+  size_t parts() const { return parts_; }
+  // The parallel region's tasks: one a thread.
+  size_t tasks() const { return std::min(threads_, parts_); }
+
+  // body(part, first, last) on the calling slot's own parts, then on any left, from the far end.
+  template <typename Body>
+  void run(const Body& body) {
+    const size_t slot = size_t(std::max(0, tbb::this_task_arena::current_thread_index())) % threads_;
+    for (size_t p = slot * parts_ / threads_; p < (slot + 1) * parts_ / threads_; ++p) claim(p, body);
+    for (size_t p = parts_; p-- > 0;) claim(p, body);
+  }
+
+ private:
+  template <typename Body>
+  void claim(size_t p, const Body& body) {
+    if (!taken_[p].exchange(true, std::memory_order_acq_rel)) body(p, p * n_ / parts_, (p + 1) * n_ / parts_);
+  }
+
+  size_t n_, threads_, parts_;
+  std::unique_ptr<std::atomic<bool>[]> taken_;
+};
+
+// body(part, first, last) for the items [first, last) of each of ownedParts(n, most) parts.
+template <typename Body>
+void forOwnedParts(size_t n, size_t most, const Body& body) {
+  OwnedPartClaims claims(n, most);
+  if (claims.parts() == 0) return;
+  tbb::parallel_for(size_t(0), claims.tasks(), [&](size_t) { claims.run(body); }, tbb::static_partitioner());
+}
+
 // A busy wait's pause (a hint to the core; nothing elsewhere).
 inline void spinPause() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
 #endif
-}
-
-// body(part, first, last) for the items [first, last) of each of ownedParts(n, most) parts.
-template <typename Body>
-void forOwnedParts(size_t n, size_t most, const Body& body) {
-  const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const size_t parts = ownedParts(n, most);
-  if (parts == 0) return;
-  std::unique_ptr<std::atomic<bool>[]> taken(new std::atomic<bool>[parts]);
-  for (size_t p = 0; p < parts; ++p) taken[p].store(false, std::memory_order_relaxed);
-  auto run = [&](size_t p) {
-    if (!taken[p].exchange(true, std::memory_order_acq_rel)) body(p, p * n / parts, (p + 1) * n / parts);
-  };
-  tbb::parallel_for(
-      size_t(0), std::min(threads, parts),
-      [&](size_t) {
-        const size_t slot = size_t(std::max(0, tbb::this_task_arena::current_thread_index())) % threads;
-        for (size_t p = slot * parts / threads; p < (slot + 1) * parts / threads; ++p) run(p);
-        for (size_t p = parts; p-- > 0;) run(p);
-      },
-      tbb::static_partitioner());
 }
 
 // forOwnedParts(n, most, first), then forOwnedParts(n, most, second), in one parallel region: a
@@ -76,43 +93,32 @@ void forOwnedParts(size_t n, size_t most, const Body& body) {
 // and wait there for the very part it is running.
 template <typename First, typename Second>
 void forOwnedPartsTwice(size_t n, size_t most, const First& first, const Second& second) {
-  const size_t threads = size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-  const size_t parts = ownedParts(n, most);
-  if (parts == 0) return;
-  std::unique_ptr<std::atomic<bool>[]> taken(new std::atomic<bool>[2 * parts]);
-  for (size_t p = 0; p < 2 * parts; ++p) taken[p].store(false, std::memory_order_relaxed);
+  OwnedPartClaims firstClaims(n, most), secondClaims(n, most);
+  if (firstClaims.parts() == 0) return;
   std::atomic<size_t> firstDone{0};
   std::atomic<bool> failed{false};
-  auto runFirst = [&](size_t p) {
-    if (taken[p].exchange(true, std::memory_order_acq_rel)) return;
+  // A part counts as done however it ends, so that no thread waits for a part that threw.
+  auto countedFirst = [&](size_t part, size_t from, size_t to) {
     struct Count {
       std::atomic<size_t>& done;
       ~Count() { done.fetch_add(1, std::memory_order_release); }
     } count{firstDone};
     try {
-      first(p, p * n / parts, (p + 1) * n / parts);
+      first(part, from, to);
     } catch (...) {
       failed.store(true, std::memory_order_relaxed);
       throw;
     }
   };
-  auto runSecond = [&](size_t p) {
-    if (!taken[parts + p].exchange(true, std::memory_order_acq_rel)) second(p, p * n / parts, (p + 1) * n / parts);
-  };
   tbb::parallel_for(
-      size_t(0), std::min(threads, parts),
+      size_t(0), firstClaims.tasks(),
       [&](size_t) {
-        const size_t slot = size_t(std::max(0, tbb::this_task_arena::current_thread_index())) % threads;
-        const size_t own = slot * parts / threads, ownEnd = (slot + 1) * parts / threads;
-        for (size_t p = own; p < ownEnd; ++p) runFirst(p);
-        for (size_t p = parts; p-- > 0;) runFirst(p);
-        while (firstDone.load(std::memory_order_acquire) < parts) {
+        firstClaims.run(countedFirst);
+        while (firstDone.load(std::memory_order_acquire) < firstClaims.parts()) {
           if (failed.load(std::memory_order_relaxed)) return;
           spinPause();
         }
-        if (failed.load(std::memory_order_relaxed)) return;
-        for (size_t p = own; p < ownEnd; ++p) runSecond(p);
-        for (size_t p = parts; p-- > 0;) runSecond(p);
+        if (!failed.load(std::memory_order_relaxed)) secondClaims.run(second);
       },
       tbb::static_partitioner());
 }
