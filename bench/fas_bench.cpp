@@ -1,5 +1,5 @@
 // Table 1 of the paper (§4.3) on this machine's CPU: 100K rings of valence n refined to depth d,
-// every level's 12n+1 refined points written to memory, by CER-based FAS (core/fas.h) and by
+// every level's 12n+1 refined points written to memory, by CER-based FAS (core/rings/fas.h) and by
 // OpenSubdiv's stencil tables (osd_ring_stencils.h), next to the memory write floor
 // (write_floor.h). Run `tessera-bench --benchmark_filter=BM_Fas`; bench/RESULTS.md has the numbers.
 #include <benchmark/benchmark.h>
@@ -19,7 +19,7 @@
 #include "bench/ring_workload.h"
 #include "bench/touched_buffer.h"
 #include "bench/write_floor.h"
-#include "core/fas.h"
+#include "core/rings/fas.h"
 
 namespace tessera::bench {
 namespace {

@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
 #include "gpu/render_engine/frame_engine.h"
 #include "gpu/render_engine/view_sweep.h"
 

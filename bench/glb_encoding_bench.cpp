@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "core/glb_output.h"
-#include "core/obj_reader.h"
+#include "core/pipeline/glb_output.h"
+#include "core/mesh/obj_reader.h"
 #include "tests/support/models.h"
 
 namespace tessera::bench {

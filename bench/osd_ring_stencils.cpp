@@ -12,8 +12,8 @@
 #include <string>
 
 #include "bench/ring_workload.h"
-#include "core/far_topology.h"
-#include "core/lattice_walker.h"
+#include "core/topology/far_topology.h"
+#include "core/topology/lattice_walker.h"
 
 namespace tessera::bench {
 

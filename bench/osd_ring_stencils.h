@@ -9,8 +9,8 @@
 
 #include <vector>
 
-#include "core/cer_layout.h"
-#include "core/control_mesh.h"
+#include "core/rings/cer_layout.h"
+#include "core/mesh/control_mesh.h"
 
 namespace tessera::bench {
 

@@ -26,8 +26,8 @@
 #include "bench/tess_figures.h"
 #include "bench/tess_osd.h"
 #include "bench/write_floor.h"
-#include "core/tessellation_plan.h"
-#include "core/uniform_grid.h"
+#include "core/uniform/tessellation_plan.h"
+#include "core/uniform/uniform_grid.h"
 
 namespace tessera::bench {
 namespace {

@@ -10,7 +10,7 @@
 #include <new>
 
 #include "bench/write_floor.h"
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 
 namespace tessera::bench {
 

@@ -14,8 +14,8 @@
 
 #include "bench/machine_load.h"
 #include "bench/touched_buffer.h"
-#include "core/control_mesh.h"
-#include "core/patch_set.h"
+#include "core/mesh/control_mesh.h"
+#include "core/rings/patch_set.h"
 
 namespace tessera::bench {
 

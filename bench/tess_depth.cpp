@@ -6,8 +6,8 @@
 #include <mutex>
 #include <string>
 
-#include "core/depth_bound.h"
-#include "core/linear_model.h"
+#include "core/bounds/depth_bound.h"
+#include "core/bounds/linear_model.h"
 
 namespace tessera::bench {
 

@@ -1,11 +1,11 @@
 // The control-mesh comparator of the paper's Fig. 6 (§5.2): a depth bound for approximating the
 // limit surface of a ring's innermost quads by the control polyhedron itself (the bilinear quads
 // of the level-m control points), as the [HW07b]/[HDW08]/[PW09] family does, instead of by
-// Tessera's ACC-1 Bézier patches (core/innermost_patch.h).
+// Tessera's ACC-1 Bézier patches (core/rings/innermost_patch.h).
 //
-// It is computed exactly the way core/depth_bound.cpp computes Tessera's Tier-1 tables
+// It is computed exactly the way core/bounds/depth_bound.cpp computes Tessera's Tier-1 tables
 // (MATH.md §3), so that the two differ only in the approximation they bound: from the linear
-// model of the ring (CC step from core/fas_rules.h in double), the Bézier coefficients of
+// model of the ring (CC step from core/rings/fas_rules.h in double), the Bézier coefficients of
 // (limit − bilinear quad) on 14 dyadic L-tiles per sector plus a convex-hull tail near the EV,
 // giving dist(x, P_m) ≤ k_m · max_l ‖q_l − q_0‖ over the base ring's points. It is a proven
 // parametric bound (the limit and the quad are compared at equal parameters), in the ring-radius
@@ -21,7 +21,7 @@
 
 #include <vector>
 
-#include "core/fas_rules.h"
+#include "core/rings/fas_rules.h"
 
 namespace tessera::bench {
 

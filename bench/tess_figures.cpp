@@ -8,8 +8,8 @@
 
 #include "bench/tess_depth.h"
 #include "bench/tess_osd.h"
-#include "core/depth_tables.h"
-#include "core/tessellate.h"
+#include "core/bounds/depth_tables.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/bfr_reference.h"
 
 namespace tessera::bench {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "bench/tess_common.h"
-#include "core/tessellation_plan.h"
+#include "core/uniform/tessellation_plan.h"
 
 namespace tessera::bench {
 

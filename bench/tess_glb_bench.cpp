@@ -41,11 +41,11 @@
 #include <string>
 
 #include "bench/machine_load.h"
-#include "core/far_topology.h"
-#include "core/glb_writer.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/tessellate.h"
+#include "core/topology/far_topology.h"
+#include "core/output/glb_writer.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/models.h"
 

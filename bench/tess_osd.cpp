@@ -23,7 +23,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
-#include "core/far_topology.h"
+#include "core/topology/far_topology.h"
 
 namespace tessera::bench {
 
@@ -51,7 +51,7 @@ struct StencilPoint {
   }
 };
 
-// The same adaptive refinement as core/patch_builder.cpp (isolation max(2, ⌈s⌉ + 1) ≤ 10,
+// The same adaptive refinement as core/topology/patch_builder.cpp (isolation max(2, ⌈s⌉ + 1) ≤ 10,
 // secondary level 2, infinitely sharp patches, no single-crease patches), with the end caps
 // OpenSubdiv recommends for evaluation (Gregory basis).
 Far::PatchTableFactory::Options patchOptions(const ControlMesh& mesh) {

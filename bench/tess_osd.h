@@ -17,7 +17,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/control_mesh.h"
+#include "core/mesh/control_mesh.h"
 
 namespace tessera::bench {
 

@@ -10,7 +10,7 @@ namespace tessera::bench {
 inline constexpr size_t kFloorBufferBytes = size_t(1) << 30;  // 1 GiB: far past every cache
 
 enum class WriteMethod {
-  kStreamAvx2,    // 32-byte non-temporal stores (what core/fas.cpp's streamOut issues)
+  kStreamAvx2,    // 32-byte non-temporal stores (what core/rings/fas.cpp's streamOut issues)
   kStreamAvx512,  // 64-byte non-temporal stores
   kMemset,        // glibc memset (its own choice of stores)
 };

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/tessellation_options.h"
+#include "core/request/tessellation_options.h"
 
 namespace tessera::cli {
 
@@ -21,7 +21,7 @@ struct TessellateFlags {
   double fov = 45;
   double pixelAccuracy = 0.5;
   long long maxTriangles = 20'000'000;
-  std::string encoding = "float";  // GLB encoding: float, quantized or meshopt (core/glb_writer.h)
+  std::string encoding = "float";  // GLB encoding: float, quantized or meshopt (core/output/glb_writer.h)
 
   void addTo(CLI::App& command);
   // Throws TesseraError (kInvalidInput) naming the flag for malformed values.

@@ -7,13 +7,13 @@
 
 #include "client/camera_flags.h"
 #include "client/commands.h"
-#include "core/error.h"
-#include "core/glb_output.h"
-#include "core/mesh_codec.h"
-#include "core/mesh_report.h"
-#include "core/obj_reader.h"
-#include "core/sha256.h"
-#include "core/tessellate.h"
+#include "core/base/error.h"
+#include "core/pipeline/glb_output.h"
+#include "core/mesh/mesh_codec.h"
+#include "core/pipeline/mesh_report.h"
+#include "core/mesh/obj_reader.h"
+#include "core/base/sha256.h"
+#include "core/pipeline/tessellate.h"
 #if TESSERA_WITH_REMOTE
 #include "client/remote_tessellate.h"
 #endif

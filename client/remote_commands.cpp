@@ -14,7 +14,7 @@
 #include "client/remote_progress.h"
 #include "client/remote_render.h"
 #include "client/remote_upload.h"
-#include "core/subdivision_rules.h"
+#include "core/mesh/subdivision_rules.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "tessera/v1/mesh.grpc.pb.h"
 #include "tessera/v1/server_info.grpc.pb.h"

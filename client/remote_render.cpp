@@ -12,7 +12,7 @@
 #include <regex>
 #include <stdexcept>
 
-#include "core/camera_text.h"
+#include "core/request/camera_text.h"
 #include "client/remote_progress.h"
 #include "tessera/v1/render.grpc.pb.h"
 

@@ -9,10 +9,10 @@
 #include <memory>
 
 #include "client/commands.h"
-#include "core/camera_text.h"
+#include "core/request/camera_text.h"
 #include "client/remote_progress.h"
-#include "core/error.h"
-#include "core/glb_writer.h"
+#include "core/base/error.h"
+#include "core/output/glb_writer.h"
 #include "tessera/v1/tessellation.grpc.pb.h"
 
 namespace tessera::cli {
@@ -56,7 +56,7 @@ void setPixelTolerance(const RemoteTessellateArgs& a, v1::TessellateRequest& req
   if (a.pixelAccuracy) pixel->set_pixel_accuracy(*a.pixelAccuracy);
 }
 
-// The request's encoding for a name core knows (core/glb_writer.h).
+// The request's encoding for a name core knows (core/output/glb_writer.h).
 v1::GlbEncoding protoEncoding(const std::string& name) {
   GlbEncoding encoding;
   try {

@@ -12,14 +12,14 @@
 #include <set>
 #include <string>
 
-#include "core/adaptive_surface.h"
-#include "core/surface_tree.h"
-#include "core/adaptive_tessellator.h"
-#include "core/domain_keys.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/surface_evaluation.h"
-#include "core/tessellate.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/surface/surface_tree.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/uniform/domain_keys.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/surface/surface_evaluation.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/limit_projection.h"
@@ -348,7 +348,7 @@ TEST(AdaptiveTessellation, GridTilesAreWithinTheirBoundAtEqualParameters) {
 }
 
 // A triangular base face whose three sub-faces each need one cell becomes the triangle through
-// the face's limit corners, split at the middles its edges keep (core/face_triangles.h,
+// the face's limit corners, split at the middles its edges keep (core/stitching/face_triangles.h,
 // docs/ADAPTIVE.md §6a), where its bound allows: then every limit point of the face, sampled from
 // Bfr over its three sub-faces, lies within the tile's bound of the face's triangles, and every
 // point of those triangles within that bound of the limit surface (Gauss-Newton projection in
@@ -476,7 +476,7 @@ TEST(AdaptiveTessellation, CellwiseTilesKeepEveryTriangleInOneCell) {
   for (const Tile& tile : layout.plan.tiles) {
     if (!tile.cellwise) continue;
     ++cellwise;
-    // The planner's are squares of 2^k × 2^k cells; rectangles (core/tile_rectangles.h) any.
+    // The planner's are squares of 2^k × 2^k cells; rectangles (core/adaptive/tile_rectangles.h) any.
     if (tile.spanU == 0 && tile.spanV == 0) {
       EXPECT_EQ(tile.ru, tile.rv);
     }

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <set>
 
-#include "core/cer_layout.h"
-#include "core/far_topology.h"
+#include "core/rings/cer_layout.h"
+#include "core/topology/far_topology.h"
 #include "tests/support/ring_meshes.h"
 
 namespace tessera {

@@ -5,13 +5,13 @@
 
 #include <cmath>
 
-#include "core/bicubic.h"
-#include "core/depth_bound.h"
-#include "core/depth_tables.h"
-#include "core/fas.h"
-#include "core/innermost_patch.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
+#include "core/math/bicubic.h"
+#include "core/bounds/depth_bound.h"
+#include "core/bounds/depth_tables.h"
+#include "core/rings/fas.h"
+#include "core/rings/innermost_patch.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/models.h"
 #include "tests/support/ring_meshes.h"

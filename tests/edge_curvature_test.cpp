@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/edge_curvature.h"
+#include "core/bounds/edge_curvature.h"
 
 namespace tessera {
 namespace {

@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/glb_writer.h"
-#include "core/mesh_codec.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/subdivision_rules.h"
-#include "core/tessellate.h"
+#include "core/base/error.h"
+#include "core/output/glb_writer.h"
+#include "core/mesh/mesh_codec.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/mesh/subdivision_rules.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/models.h"

@@ -11,11 +11,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/glb_writer.h"
-#include "core/mesh_codec.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/tessellate.h"
+#include "core/output/glb_writer.h"
+#include "core/mesh/mesh_codec.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/limit_surface.h"
 #include "tests/support/models.h"

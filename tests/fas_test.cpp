@@ -1,12 +1,12 @@
 // FAS on CER rings against OpenSubdiv Far refining the very same ring mesh, level by level.
-#include "core/fas.h"
+#include "core/rings/fas.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "tests/support/far_reference.h"
 #include "tests/support/ring_meshes.h"
 

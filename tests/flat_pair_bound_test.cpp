@@ -2,7 +2,7 @@
 // roots that are one exact piece, the pair through a root's corners (either diagonal) and a
 // triangulation with points on every side are within the bound both ways, measured: surface
 // samples against the triangles (closest points), triangle samples projected onto the surface.
-#include "core/flat_pair_bound.h"
+#include "core/bounds/flat_pair_bound.h"
 
 #include <gtest/gtest.h>
 
@@ -10,11 +10,11 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/adaptive_surface.h"
-#include "core/bicubic.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/surface_evaluation.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/math/bicubic.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/surface/surface_evaluation.h"
 #include "tests/support/limit_projection.h"
 #include "tests/support/models.h"
 #include "tests/support/triangle_bvh.h"

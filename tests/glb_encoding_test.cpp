@@ -10,12 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <tuple>
 
-#include "core/error.h"
-#include "core/glb_output.h"
-#include "core/mesh_codec.h"
-#include "core/obj_reader.h"
-#include "core/sha256.h"
-#include "core/version.h"
+#include "core/base/error.h"
+#include "core/pipeline/glb_output.h"
+#include "core/mesh/mesh_codec.h"
+#include "core/mesh/obj_reader.h"
+#include "core/base/sha256.h"
+#include "core/base/version.h"
 #include "tests/support/gltf_validator.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/models.h"

@@ -6,8 +6,8 @@
 #include <cstring>
 #include <string>
 
-#include "core/error.h"
-#include "core/glb_writer.h"
+#include "core/base/error.h"
+#include "core/output/glb_writer.h"
 #include "tests/support/gltf_validator.h"
 
 namespace tessera {

@@ -1,7 +1,7 @@
-// A grid's rates (core/grid_rates.h) against the search they stand for: every ru × rv from the
+// A grid's rates (core/adaptive/grid_rates.h) against the search they stand for: every ru × rv from the
 // least rate to kMaxTileRate, the fewest cells whose interpolation bound holds ε, ties going to
 // the squarer grid and then the fewer cells along u.
-#include "core/grid_rates.h"
+#include "core/adaptive/grid_rates.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <random>
 #include <string>
 
-#include "core/adaptive_plan.h"
+#include "core/adaptive/adaptive_plan.h"
 
 namespace tessera {
 namespace {

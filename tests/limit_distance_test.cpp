@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/limit_projection.h"
 #include "tests/support/models.h"

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/manifold_sheets.h"
-#include "core/obj_reader.h"
+#include "core/base/error.h"
+#include "core/mesh/manifold_sheets.h"
+#include "core/mesh/obj_reader.h"
 
 namespace tessera {
 namespace {

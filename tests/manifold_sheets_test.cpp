@@ -2,7 +2,7 @@
 // bow-tie vertices are cut into manifold sheets whose vertices carry the sharpness OpenSubdiv
 // gives the input's; and the sheets' limit surface is the input's, face by face, as OpenSubdiv
 // evaluates both (the claim docs/NONMANIFOLD.md proves).
-#include "core/manifold_sheets.h"
+#include "core/mesh/manifold_sheets.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include <set>
 #include <string>
 
-#include "core/error.h"
-#include "core/obj_reader.h"
+#include "core/base/error.h"
+#include "core/mesh/obj_reader.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/far_patch_reference.h"
 #include "tests/support/model_stats.h"

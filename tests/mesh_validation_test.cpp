@@ -6,8 +6,8 @@
 #include <limits>
 #include <string>
 
-#include "core/control_mesh.h"
-#include "core/error.h"
+#include "core/mesh/control_mesh.h"
+#include "core/base/error.h"
 
 namespace tessera {
 namespace {

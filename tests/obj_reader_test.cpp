@@ -1,6 +1,6 @@
 // core/obj_reader: every shipped model and OpenSubdiv shape against MODELS-STATS.csv, the shapes
 // Tessera refuses, and hand-written OBJ text for each form the format allows.
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <set>
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "tests/support/model_stats.h"
 
 namespace tessera {

@@ -1,5 +1,5 @@
-// Parts owned by thread slots (core/parallel_chunks.h) and scratch that goes back to the slot that
-// gave it (core/scratch_pool.h).
+// Parts owned by thread slots (core/base/parallel_chunks.h) and scratch that goes back to the slot that
+// gave it (core/base/scratch_pool.h).
 #include <gtest/gtest.h>
 
 #include <tbb/task_arena.h>
@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/parallel_chunks.h"
-#include "core/scratch_pool.h"
+#include "core/base/parallel_chunks.h"
+#include "core/base/scratch_pool.h"
 
 namespace tessera {
 namespace {

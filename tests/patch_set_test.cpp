@@ -6,11 +6,11 @@
 #include <cmath>
 #include <map>
 
-#include "core/bicubic.h"
-#include "core/error.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/ring_refinement.h"
+#include "core/math/bicubic.h"
+#include "core/base/error.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/rings/ring_refinement.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/far_patch_reference.h"
 #include "tests/support/models.h"

@@ -1,15 +1,15 @@
-// Planning's room kept from call to call (core/plan_scratch.h), and which one-cell tiles planning
+// Planning's room kept from call to call (core/adaptive/plan_scratch.h), and which one-cell tiles planning
 // leaves pending (kPendingSaving, docs/ADAPTIVE.md §3).
-#include "core/plan_scratch.h"
+#include "core/adaptive/plan_scratch.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "core/adaptive_surface.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
 #include "tests/support/models.h"
 
 namespace tessera {

@@ -1,4 +1,4 @@
-// The refinement budget (core/refinement_budget.h) against OpenSubdiv's complete refinement: it
+// The refinement budget (core/topology/refinement_budget.h) against OpenSubdiv's complete refinement: it
 // admits the real models at the server's default, refuses a mesh whose creases would refine it
 // into gigabytes before refining it, and agrees with the exact count where it refines to the end.
 #include <gtest/gtest.h>
@@ -6,10 +6,10 @@
 #include <set>
 #include <utility>
 
-#include "core/error.h"
-#include "core/far_topology.h"
-#include "core/obj_reader.h"
-#include "core/refinement_budget.h"
+#include "core/base/error.h"
+#include "core/topology/far_topology.h"
+#include "core/mesh/obj_reader.h"
+#include "core/topology/refinement_budget.h"
 #include "tests/support/models.h"
 
 namespace tessera {

@@ -1,14 +1,14 @@
-// The lines roots share (core/seam_lines.h), listed by the root of their first side.
-#include "core/seam_lines.h"
+// The lines roots share (core/surface/seam_lines.h), listed by the root of their first side.
+#include "core/surface/seam_lines.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "core/adaptive_surface.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
 #include "tests/support/models.h"
 
 namespace tessera {

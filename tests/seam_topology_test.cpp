@@ -1,7 +1,7 @@
 // SeamTopology's pinched corners, by hand: where a tile must keep a point inside (a valence-2
 // vertex between two faces; a face folding back along the edge it left by; an edge collapsed to
 // its vertex), and nowhere else.
-#include "core/seam_topology.h"
+#include "core/surface/seam_topology.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Planning into a reused plan: the pieces must be exactly those of a fresh plan, whatever the
 // reused plan held before.
-#include "core/tessellation_plan.h"
+#include "core/uniform/tessellation_plan.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 #include "tests/support/models.h"
 
 namespace tessera {

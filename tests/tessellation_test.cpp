@@ -20,11 +20,11 @@
 #include <optional>
 #include <random>
 
-#include "core/error.h"
-#include "core/glb_writer.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/tessellate.h"
+#include "core/base/error.h"
+#include "core/output/glb_writer.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/far_patch_reference.h"
 #include "tests/support/gltf_validator.h"

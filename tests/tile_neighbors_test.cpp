@@ -1,16 +1,16 @@
-// Which tile sides get points beside their own (core/tile_neighbors.h, docs/ADAPTIVE.md §3), and
+// Which tile sides get points beside their own (core/adaptive/tile_neighbors.h, docs/ADAPTIVE.md §3), and
 // the planner's promise that no pending tile is left that its own root's tiles break.
-#include "core/tile_neighbors.h"
+#include "core/adaptive/tile_neighbors.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
-#include "core/adaptive_plan.h"
-#include "core/adaptive_surface.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
+#include "core/adaptive/adaptive_plan.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
 #include "tests/support/models.h"
 
 namespace tessera {

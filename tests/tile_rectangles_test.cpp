@@ -1,5 +1,5 @@
-// Dyadic rectangle tiles (core/tile_rectangles.h, docs/ADAPTIVE.md §6b).
-#include "core/tile_rectangles.h"
+// Dyadic rectangle tiles (core/adaptive/tile_rectangles.h, docs/ADAPTIVE.md §6b).
+#include "core/adaptive/tile_rectangles.h"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <tuple>
 #include <vector>
 
-#include "core/adaptive_surface.h"
-#include "core/adaptive_tessellator.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
 #include "tests/support/models.h"
 
 namespace tessera {

@@ -1,4 +1,4 @@
-// core/vertex_evaluation.h's seam, which the CUDA engine plugs into: an evaluation that puts every
+// core/stitching/vertex_evaluation.h's seam, which the CUDA engine plugs into: an evaluation that puts every
 // vertex on the surface itself (here SurfaceEvaluator, in reverse order, into poisoned arrays)
 // gives the CPU path's mesh and per-vertex records exactly; one that declines (a device out of
 // memory) leaves the CPU to do it, with the same result; copies get their original's position.
@@ -6,11 +6,11 @@
 
 #include <limits>
 
-#include "core/adaptive_surface.h"
-#include "core/obj_reader.h"
-#include "core/surface_evaluation.h"
-#include "core/tessellate.h"
-#include "core/vertex_evaluation.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/mesh/obj_reader.h"
+#include "core/surface/surface_evaluation.h"
+#include "core/pipeline/tessellate.h"
+#include "core/stitching/vertex_evaluation.h"
 #include "tests/support/mesh_equality.h"
 #include "tests/support/models.h"
 

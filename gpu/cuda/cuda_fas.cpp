@@ -7,7 +7,7 @@
 #include <climits>
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/fas_launch.h"
 

@@ -1,5 +1,5 @@
 // CER-based FAS on a CUDA device (paper §4.2), one warp per extraordinary ring; the GPU
-// counterpart of core/fas.h. Plain C++: no CUDA type appears here, so server and CLI code call
+// counterpart of core/rings/fas.h. Plain C++: no CUDA type appears here, so server and CLI code call
 // it with g++ alone.
 //
 // Output layout is refineRing's, ring after ring: for ring r, level l (0-based), point p,
@@ -16,7 +16,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/fas_rules.h"
+#include "core/rings/fas_rules.h"
 
 namespace tessera::cuda {
 

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/cuda/device_out_of_memory.h"
 
 namespace tessera::cuda::detail {

@@ -2,14 +2,14 @@
 // (CudaSurface, what the CUDA engine caches per mesh), and per request the stitching's vertex
 // requests and its tiles' nodes copied up, one thread per vertex (vertex_kernel.cu), positions and
 // normals copied down (CudaVertexEvaluation). Planning, stitching and triangulation stay on the
-// CPU. Equal bit for bit to the CPU's evaluation (core/surface_point.h). Plain C++: no CUDA types.
+// CPU. Equal bit for bit to the CPU's evaluation (core/surface/surface_point.h). Plain C++: no CUDA types.
 #pragma once
 
 #include <memory>
 #include <vector>
 
-#include "core/patch_set.h"
-#include "core/vertex_evaluation.h"
+#include "core/rings/patch_set.h"
+#include "core/stitching/vertex_evaluation.h"
 #include "gpu/cuda/device_out_of_memory.h"
 #include "gpu/cuda/vertex_threads.h"
 

@@ -1,6 +1,6 @@
-// The uniform grid (core/uniform_grid.h, the paper's Table 2) evaluated on a CUDA device: the
+// The uniform grid (core/uniform/uniform_grid.h, the paper's Table 2) evaluated on a CUDA device: the
 // pieces planUniformGrid chose, sampled from their nets straight into device memory, equal bit for
-// bit to evaluateUniformGrid on the CPU (core/grid_sample.h is both sides' arithmetic). Planning
+// bit to evaluateUniformGrid on the CPU (core/math/grid_sample.h is both sides' arithmetic). Planning
 // (CER FAS of the rings, the ring nets) stays on the CPU. Plain C++: no CUDA types.
 #pragma once
 
@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "core/uniform_grid.h"
+#include "core/uniform/uniform_grid.h"
 #include "gpu/cuda/grid_threads.h"
 
 namespace tessera::cuda {

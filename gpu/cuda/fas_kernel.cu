@@ -1,11 +1,11 @@
 // CER-based FAS on the GPU, one warp per extraordinary ring (paper §4.2 and §4.2.1): the ring
 // is loaded once, refined level by level in a ring buffer in shared memory, and every level's
 // refined set (12n+1 points) is written once to device memory. The per-lane work is
-// gpu/cuda/warp_fas.h, shared with the CPU-side warp simulation; the rules are core/fas_rules.h,
+// gpu/cuda/warp_fas.h, shared with the CPU-side warp simulation; the rules are core/rings/fas_rules.h,
 // decoded once per batch (warp_step_program.h).
 //
 // Built with --fmad=false (see CMakeLists.txt): with no contraction, the same operations in the
-// same order round as core/fas.cpp (-ffp-contract=off) does, so results match the CPU bit for bit.
+// same order round as core/rings/fas.cpp (-ffp-contract=off) does, so results match the CPU bit for bit.
 #include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/fas_launch.h"
 

@@ -1,19 +1,19 @@
-// The uniform grid (core/uniform_grid.h, the paper's Table 2) on a CUDA device, two kernels: one
+// The uniform grid (core/uniform/uniform_grid.h, the paper's Table 2) on a CUDA device, two kernels: one
 // thread per piece marks the sample blocks that start in its piece, then one thread per sample,
 // each block kGridSamplesPerBlock consecutive samples of the grid's output, finds its piece among
 // the few its block spans. What each thread does is written once here as host-device code, so
 // that the kernels (uniform_grid_kernel.cu) and the CPU-side simulation
 // (tests/cuda/grid_simulation_test.cpp) run the same indexing; the sample itself is
-// core/grid_sample.h, the CPU reference's own code.
+// core/math/grid_sample.h, the CPU reference's own code.
 //
 // Plain C++ apart from TESSERA_HD: no CUDA types.
 #pragma once
 
 #include <cstdint>
 
-#include "core/grid_sample.h"
-#include "core/host_device.h"
-#include "core/vec3.h"
+#include "core/math/grid_sample.h"
+#include "core/base/host_device.h"
+#include "core/base/vec3.h"
 
 namespace tessera::cuda {
 

@@ -1,8 +1,8 @@
 #include "gpu/cuda/surface_upload.h"
 
-#include "core/adaptive_surface.h"
-#include "core/error.h"
-#include "core/surface_evaluation.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/base/error.h"
+#include "core/surface/surface_evaluation.h"
 
 namespace tessera::cuda {
 

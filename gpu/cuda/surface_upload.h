@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "core/patch_set.h"
-#include "core/surface_tree.h"
+#include "core/rings/patch_set.h"
+#include "core/surface/surface_tree.h"
 #include "gpu/cuda/vertex_threads.h"
 
 namespace tessera::cuda {

@@ -1,6 +1,6 @@
 // The uniform grid on the GPU (paper Table 2): the blocks' first pieces, then one thread per
 // sample; the per-thread work is gpu/cuda/grid_threads.h. Built with --fmad=false like the FAS
-// kernel, so the samples equal the CPU's evaluateUniformGrid bit for bit (core/grid_sample.h).
+// kernel, so the samples equal the CPU's evaluateUniformGrid bit for bit (core/math/grid_sample.h).
 #include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/grid_launch.h"
 

@@ -1,6 +1,6 @@
 // The adaptive tessellation's vertices on the GPU: one thread per vertex, the per-thread work in
 // gpu/cuda/vertex_threads.h. Built with --fmad=false, so the vertices equal the CPU engine's bit
-// for bit (core/surface_point.h is both sides' arithmetic).
+// for bit (core/surface/surface_point.h is both sides' arithmetic).
 #include "gpu/cuda/cuda_runtime_support.h"
 #include "gpu/cuda/vertex_launch.h"
 

@@ -1,20 +1,20 @@
 // What each thread of the vertex kernel does (vertex_kernel.cu): one vertex of the adaptive
-// tessellation put on the limit surface, with core/surface_point.h's arithmetic, reading the
+// tessellation put on the limit surface, with core/surface/surface_point.h's arithmetic, reading the
 // surface tree from flat arrays. Host-device: tests run it on the CPU in the kernel's order and
 // compare with the CPU engine (tests/cuda/vertex_simulation_test.cpp).
 #pragma once
 
 #include <cstdint>
 
-#include "core/host_device.h"
-#include "core/surface_point.h"
-#include "core/tile_stitching.h"
+#include "core/base/host_device.h"
+#include "core/surface/surface_point.h"
+#include "core/stitching/tile_stitching.h"
 
 namespace tessera::cuda {
 
 // A patch set's surface tree as the kernel reads it: the tree's nodes and EV bottoms as they
 // are, 16 control points per regular patch (PatchSet::regular.bspline) and per FAS leaf (its
-// gathered net, core/surface_evaluation.h's gatherFasLeafNet), and each FAS leaf's ring centre.
+// gathered net, core/surface/surface_evaluation.h's gatherFasLeafNet), and each FAS leaf's ring centre.
 struct SurfaceView {
   const SurfaceNode* nodes = nullptr;
   const EvBottom* evBottoms = nullptr;

@@ -1,4 +1,4 @@
-// One CER step decoded for a ring shape (core/fas_step_program.h's StepProgram, point offsets in
+// One CER step decoded for a ring shape (core/rings/fas_step_program.h's StepProgram, point offsets in
 // floats of one xyz point) as the FAS kernel reads it: every record kind in one word array,
 // uploaded once per batch, read by the lanes from global memory (a few KB, cached in L1).
 //
@@ -14,8 +14,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/fas_step_program.h"
-#include "core/host_device.h"
+#include "core/rings/fas_step_program.h"
+#include "core/base/host_device.h"
 
 namespace tessera::cuda {
 

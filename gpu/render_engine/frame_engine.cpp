@@ -4,7 +4,7 @@
 #include <chrono>
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/render_engine/camera_conversion.h"
 #include "gpu/render_engine/render_patches.h"
 #include "gpu/vulkan/camera_math.h"

@@ -1,5 +1,5 @@
 // A frame of a Catmull-Clark surface, the paper's way (§5-6): plan on the CPU (a FAS depth per
-// extraordinary ring and an FMM86 level per Bézier piece, core/tessellation_plan.h), hand the
+// extraordinary ring and an FMM86 level per Bézier piece, core/uniform/tessellation_plan.h), hand the
 // pieces to the Vulkan renderer as bicubic patches, tessellate, rasterise with Blinn-Phong, and
 // repair the cracks between pieces in image space (§6.2.3-6.2.4).
 //
@@ -8,7 +8,7 @@
 //   request.camera = {.eye = {0, 0, 5}, .target = {0, 0, 0}, .width = 1920, .height = 1080};
 //   EngineFrame frame = engine.render(buildPatchSet(mesh), request);
 //
-// Accuracy (core/accuracy.h): pixel-accurate (ε is `pixels` projected back to object space per
+// Accuracy (core/request/accuracy.h): pixel-accurate (ε is `pixels` projected back to object space per
 // piece and per ring for the request's camera, MATH.md §4), a tolerance in object space or as a
 // fraction of the diagonal, or the paper's uniform level p (Table 2). Nothing is cached between frames; the engine owns one
 // Renderer and, like it, is not thread-safe.
@@ -24,9 +24,9 @@
 #include <functional>
 #include <vector>
 
-#include "core/patch_set.h"
-#include "core/tessellation_options.h"
-#include "core/tessellation_plan.h"
+#include "core/rings/patch_set.h"
+#include "core/request/tessellation_options.h"
+#include "core/uniform/tessellation_plan.h"
 #include "gpu/vulkan/device_selection.h"
 #include "gpu/vulkan/render_types.h"
 #include "gpu/vulkan/renderer.h"

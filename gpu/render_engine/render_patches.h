@@ -12,8 +12,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/tessellation_options.h"
-#include "core/tessellation_plan.h"
+#include "core/request/tessellation_options.h"
+#include "core/uniform/tessellation_plan.h"
 #include "gpu/vulkan/render_types.h"
 
 namespace tessera::gpu {

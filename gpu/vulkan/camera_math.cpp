@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/camera.h"
+#include "core/request/camera.h"
 #include "gpu/vulkan/vulkan_error.h"
 
 namespace tessera::gpu {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/vec3.h"
+#include "core/base/vec3.h"
 
 namespace tessera::gpu {
 

@@ -16,7 +16,7 @@
 #include <optional>
 #include <thread>
 
-#include "core/version.h"
+#include "core/base/version.h"
 
 #include "server/operations/log_format.h"
 #include "server/meshes/mesh_service.h"

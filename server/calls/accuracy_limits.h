@@ -1,12 +1,12 @@
 // The server's budgets on a request's accuracy, shared by Tessellate, Render and RenderSession:
-// core checks that an accuracy makes sense (core/accuracy.h); these check what this server
+// core checks that an accuracy makes sense (core/request/accuracy.h); these check what this server
 // allows. `field` names the request's field in messages ("relative", "settings.pixel_accuracy").
 #pragma once
 
 #include <cstdint>
 #include <string_view>
 
-#include "core/accuracy.h"
+#include "core/request/accuracy.h"
 #include "server/meshes/mesh_metadata.h"
 
 namespace tessera::server {

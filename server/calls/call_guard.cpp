@@ -6,7 +6,7 @@
 #include <new>
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {

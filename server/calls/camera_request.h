@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "core/camera.h"
+#include "core/request/camera.h"
 #include "tessera/v1/tessellation.pb.h"
 
 namespace tessera::server {

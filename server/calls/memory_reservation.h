@@ -1,5 +1,5 @@
 // What a running job may take in memory. A job reserves the bytes core's estimates give
-// (core/memory_estimates.h) before it makes something big: preprocessing once the refinement is
+// (core/pipeline/memory_estimates.h) before it makes something big: preprocessing once the refinement is
 // estimated, the output once the plan knows its triangles, a frame's buffers before drawing.
 // The server's admission control (admission_control.h) holds the budget the reservations come
 // from and gives them back when the job ends.

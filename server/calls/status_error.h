@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace tessera::server {
 
@@ -45,7 +45,7 @@ class StatusError : public std::runtime_error {
 // already names the problem and where, is passed on unchanged.
 grpc::Status statusFromTesseraError(const TesseraError& error);
 
-// Runs one of core's checks (core/accuracy.h, core/camera.h, told the field's name): its
+// Runs one of core's checks (core/request/accuracy.h, core/request/camera.h, told the field's name): its
 // TesseraError becomes the StatusError it maps to, so that every refusal of a request's checks
 // is a StatusError, wherever the check runs.
 template <typename Check>

@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/sha256.h"
+#include "core/base/sha256.h"
 #include "server/calls/status_error.h"
 #include "server/http/http_query.h"
 #include "server/http/http_status.h"

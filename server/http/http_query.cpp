@@ -4,7 +4,7 @@
 
 #include <optional>
 
-#include "core/camera_text.h"
+#include "core/request/camera_text.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/subdivision_rules.h"
+#include "core/mesh/subdivision_rules.h"
 #include "server/store/mesh_store.h"
 
 namespace tessera::server {

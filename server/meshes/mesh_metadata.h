@@ -5,15 +5,15 @@
 #include <cstdint>
 #include <string>
 
-#include "core/control_mesh.h"
-#include "core/vec3.h"
+#include "core/mesh/control_mesh.h"
+#include "core/base/vec3.h"
 
 namespace tessera::server {
 
 // Numbered as tessera.v1.MeshFormat, which is also how the stores persist it.
 enum class SourceFormat : int32_t { kArrays = 1, kObj = 2 };
 
-// The `boundary` column holds rulesCode (core/subdivision_rules.h): rows written before crease and
+// The `boundary` column holds rulesCode (core/mesh/subdivision_rules.h): rows written before crease and
 // triangle rules were stored hold 1 or 2 and read as uniform creases and Catmull-Clark triangles.
 // Throws StoreError naming the mesh for a number no rules encode.
 SubdivisionRules rulesFromColumn(int64_t code, const std::string& id);

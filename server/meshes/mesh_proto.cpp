@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "core/mesh_codec.h"
-#include "core/subdivision_rules.h"
+#include "core/mesh/mesh_codec.h"
+#include "core/mesh/subdivision_rules.h"
 #include "server/meshes/mesh_names.h"
 #include "server/calls/status_error.h"
 

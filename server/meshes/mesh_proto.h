@@ -4,7 +4,7 @@
 #include <functional>
 #include <string>
 
-#include "core/control_mesh.h"
+#include "core/mesh/control_mesh.h"
 #include "server/meshes/mesh_metadata.h"
 #include "tessera/v1/mesh.pb.h"
 

@@ -5,9 +5,9 @@
 
 #include <chrono>
 
-#include "core/mesh_codec.h"
+#include "core/mesh/mesh_codec.h"
 #include "server/meshes/mesh_names.h"
-#include "core/sha256.h"
+#include "core/base/sha256.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/control_mesh.h"
+#include "core/mesh/control_mesh.h"
 #include "server/meshes/lru_cache.h"
 #include "server/meshes/mesh_metadata.h"
 #include "server/store/mesh_store.h"

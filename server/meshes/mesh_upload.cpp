@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
-#include "core/refinement_input.h"
-#include "core/memory_estimates.h"
-#include "core/obj_reader.h"
-#include "core/refinement_budget.h"
+#include "core/base/error.h"
+#include "core/topology/refinement_input.h"
+#include "core/pipeline/memory_estimates.h"
+#include "core/mesh/obj_reader.h"
+#include "core/topology/refinement_budget.h"
 #include "server/meshes/mesh_names.h"
 #include "server/calls/status_error.h"
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/control_mesh.h"
+#include "core/mesh/control_mesh.h"
 #include "server/meshes/mesh_metadata.h"
 #include "tessera/v1/mesh.pb.h"
 
@@ -19,7 +19,7 @@ namespace tessera::server {
 struct UploadLimits {
   int64_t maxUploadBytes = 256 << 20;
   MeshLimits mesh;
-  // OpenSubdiv's adaptive refinement of a mesh (core/refinement_budget.h): ~650 bytes of patch set
+  // OpenSubdiv's adaptive refinement of a mesh (core/topology/refinement_budget.h): ~650 bytes of patch set
   // per vertex, so the default bounds preprocessing at ~2.6 GB. Checked at upload and again when
   // a mesh is preprocessed.
   int64_t maxRefinedVertices = 4'000'000;
@@ -29,7 +29,7 @@ struct AssembledUpload {
   ControlMesh mesh;
   // id, displayName, sourceFormat and sourceBytes; the rest is filled when it is stored.
   MeshMetadata metadata;
-  // What preprocessing the mesh is sure to reserve (core/memory_estimates.h): the caller refuses
+  // What preprocessing the mesh is sure to reserve (core/pipeline/memory_estimates.h): the caller refuses
   // a mesh that could never fit the server's memory budget (admission_control.h).
   int64_t preprocessingBytes = 0;
   std::string where;  // the mesh in messages: "NAME: " or "arrays: "

@@ -1,7 +1,7 @@
 #include "server/meshes/patch_set_cache.h"
 
-#include "core/adaptive_surface.h"
-#include "core/memory_estimates.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/pipeline/memory_estimates.h"
 
 #include <vector>
 

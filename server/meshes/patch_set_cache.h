@@ -6,8 +6,8 @@
 #include <memory>
 #include <string>
 
-#include "core/control_mesh.h"
-#include "core/patch_set.h"
+#include "core/mesh/control_mesh.h"
+#include "core/rings/patch_set.h"
 #include "server/calls/cancellation.h"
 #include "server/calls/memory_reservation.h"
 #include "server/meshes/lru_cache.h"
@@ -24,7 +24,7 @@ class PatchSetCache {
   // under the same id never meets a stale entry. Throws what buildPatchSet throws, and
   // OperationCancelled when `cancel` fires while building (nothing is cached then). A build
   // reserves its memory in `memory` (may be null) as the refinement's size becomes known
-  // (core/memory_estimates.h), and keeps it until the job ends.
+  // (core/pipeline/memory_estimates.h), and keeps it until the job ends.
   std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshId,
                                       const std::string& meshSha256, const CancellationToken& cancel,
                                       MemoryReservation* memory);

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/version.h"
+#include "core/base/version.h"
 
 namespace tessera::server {
 namespace {

@@ -8,13 +8,13 @@
 #include <thread>
 #include <vector>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "server/calls/call_guard.h"
 #include "server/calls/memory_release.h"
 #include "server/meshes/mesh_names.h"
 #include "server/render/render_request.h"
 #include "server/render/render_session.h"
-#include "core/sha256.h"
+#include "core/base/sha256.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {

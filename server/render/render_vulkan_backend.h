@@ -16,7 +16,7 @@
 #include <optional>
 #include <string>
 
-#include "core/patch_set.h"
+#include "core/rings/patch_set.h"
 #include "gpu/render_engine/frame_engine.h"
 #include "gpu/vulkan/device_selection.h"
 #include "server/meshes/patch_set_cache.h"

@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include "core/subdivision_rules.h"
+#include "core/mesh/subdivision_rules.h"
 #include "server/store/store_schema.h"
 
 namespace tessera::server {

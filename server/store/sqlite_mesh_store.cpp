@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 #include <sqlite3.h>
 
-#include "core/subdivision_rules.h"
+#include "core/mesh/subdivision_rules.h"
 #include "server/store/store_schema.h"
 
 namespace tessera::server {

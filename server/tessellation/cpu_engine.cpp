@@ -3,9 +3,9 @@
 #include <chrono>
 #include <string>
 
-#include "core/glb_output.h"
-#include "core/memory_estimates.h"
-#include "core/tessellate.h"
+#include "core/pipeline/glb_output.h"
+#include "core/pipeline/memory_estimates.h"
+#include "core/pipeline/tessellate.h"
 
 namespace tessera::server {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <utility>
 
-#include "core/patch_set.h"
-#include "core/vertex_evaluation.h"
+#include "core/rings/patch_set.h"
+#include "core/stitching/vertex_evaluation.h"
 #include "server/meshes/patch_set_cache.h"
 #include "server/tessellation/tessellation_engine.h"
 

@@ -12,10 +12,10 @@
 #include <string_view>
 #include <vector>
 
-#include "core/accuracy.h"
-#include "core/camera.h"
-#include "core/control_mesh.h"
-#include "core/glb_writer.h"
+#include "core/request/accuracy.h"
+#include "core/request/camera.h"
+#include "core/mesh/control_mesh.h"
+#include "core/output/glb_writer.h"
 #include "server/calls/cancellation.h"
 #include "server/calls/memory_reservation.h"
 

@@ -7,7 +7,7 @@
 #include "server/calls/call_guard.h"
 #include "server/meshes/mesh_names.h"
 #include "server/calls/memory_release.h"
-#include "core/sha256.h"
+#include "core/base/sha256.h"
 #include "server/calls/status_error.h"
 
 namespace tessera::server {

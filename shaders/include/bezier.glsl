@@ -7,7 +7,7 @@
 // [[unroll]] keeps control-point indices constant, so the 16 points stay in registers.
 #extension GL_EXT_control_flow_attributes : require
 
-#include "core/cubic_bernstein.h"
+#include "core/math/cubic_bernstein.h"
 
 // Cubic Bernstein basis at t and its derivative, as vectors (kept in registers).
 void bernstein3(float t, out vec4 b, out vec4 d) {

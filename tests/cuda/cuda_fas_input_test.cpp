@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/cuda/cuda_fas.h"
 #include "gpu/cuda/device_info.h"
 

@@ -1,4 +1,4 @@
-// The CUDA FAS kernel against the CPU path (core/fas.h refineRing), level by level. Needs a
+// The CUDA FAS kernel against the CPU path (core/rings/fas.h refineRing), level by level. Needs a
 // CUDA device; without one every test here is skipped with CUDA's reason.
 #include "gpu/cuda/cuda_fas.h"
 

@@ -1,5 +1,5 @@
 // The uniform grid on a CUDA device against the CPU's evaluateUniformGrid, bit for bit (both run
-// core/grid_sample.h without multiply-add contraction). Needs a CUDA device; without one the
+// core/math/grid_sample.h without multiply-add contraction). Needs a CUDA device; without one the
 // tests are skipped with CUDA's reason.
 #include "gpu/cuda/cuda_uniform_grid.h"
 
@@ -8,8 +8,8 @@
 #include <cstring>
 #include <string>
 
-#include "core/error.h"
-#include "core/obj_reader.h"
+#include "core/base/error.h"
+#include "core/mesh/obj_reader.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/cuda/grid_cases.h"
 #include "tests/support/models.h"

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/obj_reader.h"
-#include "core/uniform_grid.h"
+#include "core/mesh/obj_reader.h"
+#include "core/uniform/uniform_grid.h"
 #include "tests/support/models.h"
 
 namespace tessera::cuda::testing {

@@ -1,5 +1,5 @@
 // Batches of jittered rings (tests/support/ring_meshes.h) and their CPU reference, in the
-// layout of core/fas.h refineRing: ring after ring, each its levels one after another.
+// layout of core/rings/fas.h refineRing: ring after ring, each its levels one after another.
 #pragma once
 
 #include <algorithm>
@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/fas.h"
+#include "core/rings/fas.h"
 #include "tests/support/ring_meshes.h"
 
 namespace tessera::testing {
@@ -42,7 +42,7 @@ inline std::vector<float> ringBatch(const RingKind& kind, int count, uint32_t fi
   return rings;
 }
 
-// core/fas.h refineRing on every ring of the batch, concatenated.
+// core/rings/fas.h refineRing on every ring of the batch, concatenated.
 inline std::vector<float> cpuReference(const RingRules& rules, int depth, int count,
                                        const std::vector<float>& rings) {
   const size_t ringFloats = size_t(rules.shape.ringPointCount()) * 3;

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/tessellate.h"
-#include "core/vertex_evaluation.h"
+#include "core/base/error.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/pipeline/tessellate.h"
+#include "core/stitching/vertex_evaluation.h"
 #include "tests/support/models.h"
 
 namespace tessera::cuda::testing {

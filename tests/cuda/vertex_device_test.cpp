@@ -1,5 +1,5 @@
 // The adaptive tessellation with its vertices evaluated on a CUDA device against the CPU engine's,
-// bit for bit (both run core/surface_point.h without multiply-add contraction): every supported
+// bit for bit (both run core/surface/surface_point.h without multiply-add contraction): every supported
 // OpenSubdiv shape at 1e-2 and the paper's characters at 1e-3. Needs a CUDA device; without one
 // the tests are skipped with CUDA's reason.
 #include "gpu/cuda/cuda_surface.h"
@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/cuda/vertex_cases.h"
 #include "tests/support/mesh_equality.h"

@@ -11,7 +11,7 @@
 #include <numeric>
 #include <random>
 
-#include "core/adaptive_surface.h"
+#include "core/surface/adaptive_surface.h"
 #include "gpu/cuda/surface_upload.h"
 #include "gpu/cuda/vertex_threads.h"
 #include "tests/cuda/vertex_cases.h"

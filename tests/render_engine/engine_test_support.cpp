@@ -8,7 +8,7 @@
 #include <map>
 #include <memory>
 
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 #include "tests/support/models.h"
 
 namespace tessera::testing {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/control_mesh.h"
-#include "core/patch_set.h"
+#include "core/mesh/control_mesh.h"
+#include "core/rings/patch_set.h"
 #include "gpu/render_engine/frame_engine.h"
 
 namespace tessera::testing {

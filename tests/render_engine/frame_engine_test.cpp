@@ -9,7 +9,7 @@
 #include <string>
 #include <tuple>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/render_engine/render_patches.h"
 #include "tests/render_engine/engine_test_support.h"
 

@@ -10,7 +10,7 @@
 #include <limits>
 #include <memory>
 
-#include "core/far_topology.h"
+#include "core/topology/far_topology.h"
 
 namespace tessera::testing {
 namespace {

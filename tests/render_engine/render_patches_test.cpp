@@ -9,7 +9,7 @@
 #include <cstring>
 #include <random>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "gpu/render_engine/camera_conversion.h"
 
 namespace tessera::gpu {
@@ -28,7 +28,7 @@ BezierPiece randomPiece(int level, uint32_t seed) {
   return piece;
 }
 
-// Bernstein evaluation in double, written here (independent of core/bicubic.h).
+// Bernstein evaluation in double, written here (independent of core/math/bicubic.h).
 Vec3d evaluate(const float (*cp)[3], double u, double v) {
   auto basis = [](double t, double w[4]) {
     double s = 1 - t;

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/error.h"
+#include "core/base/error.h"
 #include "tests/render_engine/engine_test_support.h"
 
 namespace tessera::testing {

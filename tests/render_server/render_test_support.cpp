@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 
 namespace tessera::test {
 

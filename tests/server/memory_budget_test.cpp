@@ -38,7 +38,7 @@ Tessellated tessellate(v1::TessellationService::Stub& stub, const v1::Tessellate
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // 1 GiB less 64 MiB + 64 MiB of caches and 128 MiB for the server: 768 MiB for jobs. armorguy's
-// refinement alone is estimated at ~1.6 GiB (core/memory_estimates.h).
+// refinement alone is estimated at ~1.6 GiB (core/pipeline/memory_estimates.h).
 TEST(MemoryBudget, AMeshWhosePreprocessingCannotFitIsRefusedAtUpload) {
   TempDir dir;
   auto server = ServerProcess::start(

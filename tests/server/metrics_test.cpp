@@ -14,7 +14,7 @@
 #include <regex>
 #include <thread>
 
-#include "core/version.h"
+#include "core/base/version.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"

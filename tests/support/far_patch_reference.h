@@ -10,9 +10,9 @@
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/ptexIndices.h>
 
-#include "core/control_mesh.h"
-#include "core/far_topology.h"
-#include "core/patch_set.h"
+#include "core/mesh/control_mesh.h"
+#include "core/topology/far_topology.h"
+#include "core/rings/patch_set.h"
 
 namespace tessera::testing {
 

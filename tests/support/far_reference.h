@@ -4,9 +4,9 @@
 #include <memory>
 #include <vector>
 
-#include "core/control_mesh.h"
-#include "core/far_topology.h"
-#include "core/lattice_walker.h"
+#include "core/mesh/control_mesh.h"
+#include "core/topology/far_topology.h"
+#include "core/topology/lattice_walker.h"
 
 namespace tessera::testing {
 

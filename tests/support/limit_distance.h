@@ -22,7 +22,7 @@
 #include <limits>
 #include <span>
 
-#include "core/watertight_tessellator.h"
+#include "core/uniform/watertight_tessellator.h"
 #include "tests/support/limit_surface.h"
 
 namespace tessera::testing {

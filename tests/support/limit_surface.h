@@ -19,8 +19,8 @@
 #include <memory>
 #include <vector>
 
-#include "core/control_mesh.h"
-#include "core/far_topology.h"
+#include "core/mesh/control_mesh.h"
+#include "core/topology/far_topology.h"
 #include "tests/support/far_patch_reference.h"
 
 namespace tessera::testing {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/watertight_tessellator.h"
+#include "core/uniform/watertight_tessellator.h"
 
 namespace tessera::testing {
 

@@ -2,8 +2,8 @@
 
 #include <random>
 
-#include "core/error.h"
-#include "core/patch_set.h"
+#include "core/base/error.h"
+#include "core/rings/patch_set.h"
 #include "tests/support/limit_surface.h"
 
 namespace tessera::testing {

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/control_mesh.h"
-#include "core/tessellate.h"
+#include "core/mesh/control_mesh.h"
+#include "core/pipeline/tessellate.h"
 #include "tests/support/limit_distance.h"
 
 namespace tessera::testing {

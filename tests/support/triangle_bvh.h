@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "core/vec3.h"
+#include "core/base/vec3.h"
 
 namespace tessera::testing {
 

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/vec3.h"
+#include "core/base/vec3.h"
 #include "gpu/vulkan/renderer.h"
 
 namespace tessera::gpu::testing {

@@ -11,7 +11,7 @@
 //    the parameterization's in-plane distortion;
 //  - §2's FMM86 form with the second derivatives' sup sampled instead of hull bounds (the hull's
 //    share of the slack);
-//  - for tiles inside one piece, §2a's bound (core/edge_curvature.h) at the tile's rates over §2's
+//  - for tiles inside one piece, §2a's bound (core/bounds/edge_curvature.h) at the tile's rates over §2's
 //    (both from the piece's net: the share §2a takes off, or adds);
 //  - §2's form with only the components of the second derivatives along the surface normal
 //    (sampled, pointwise; an estimate of what a geometric bound could reach, not a bound);
@@ -27,11 +27,11 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/adaptive_surface.h"
-#include "core/adaptive_tessellator.h"
-#include "core/edge_curvature.h"
-#include "core/obj_reader.h"
-#include "core/surface_evaluation.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/bounds/edge_curvature.h"
+#include "core/mesh/obj_reader.h"
+#include "core/surface/surface_evaluation.h"
 #include "tests/support/triangle_bvh.h"  // closestPointOnTriangle
 
 namespace tessera {

@@ -1,9 +1,9 @@
-// Generates the checked-in depth tables (core/depth_tables_data.inc, the data core/depth_tables.cpp
-// compiles in): c_m of the Tier-1 bound (core/depth_bound.h) for interior rings of valence 2..64
-// and boundary rings of 1..32 faces, m = 0..24. Usage: generate-depth-tables > core/depth_tables_data.inc
+// Generates the checked-in depth tables (core/bounds/depth_tables_data.inc, the data core/bounds/depth_tables.cpp
+// compiles in): c_m of the Tier-1 bound (core/bounds/depth_bound.h) for interior rings of valence 2..64
+// and boundary rings of 1..32 faces, m = 0..24. Usage: generate-depth-tables > core/bounds/depth_tables_data.inc
 #include <cstdio>
 
-#include "core/depth_bound.h"
+#include "core/bounds/depth_bound.h"
 
 namespace {
 

@@ -16,8 +16,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "core/obj_reader.h"
-#include "core/subdivision_rules.h"
+#include "core/mesh/obj_reader.h"
+#include "core/mesh/subdivision_rules.h"
 #include "tests/support/bfr_reference.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/limit_projection.h"

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
-#include "core/glb_writer.h"
-#include "core/obj_reader.h"
-#include "core/tessellate.h"
+#include "core/base/error.h"
+#include "core/output/glb_writer.h"
+#include "core/mesh/obj_reader.h"
+#include "core/pipeline/tessellate.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // Measures the peak resident memory of preprocessing and of tessellation (with the GLB) on real
-// meshes beside core's estimates of them (core/memory_estimates.h), which a server admits jobs
+// meshes beside core's estimates of them (core/pipeline/memory_estimates.h), which a server admits jobs
 // by: every estimate must sit above what was measured. Writes bench/MEMORY-RESULTS.md's table.
 //
 //   tessera-memory-fit MODEL.obj... [--tolerances 1e-2,1e-3,1e-4] [--levels 3,5]
@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "core/glb_writer.h"
-#include "core/memory_estimates.h"
-#include "core/obj_reader.h"
-#include "core/patch_set.h"
-#include "core/tessellate.h"
+#include "core/output/glb_writer.h"
+#include "core/pipeline/memory_estimates.h"
+#include "core/mesh/obj_reader.h"
+#include "core/rings/patch_set.h"
+#include "core/pipeline/tessellate.h"
 
 namespace {
 

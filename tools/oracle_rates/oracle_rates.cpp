@@ -39,7 +39,7 @@
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
-#include "core/obj_reader.h"
+#include "core/mesh/obj_reader.h"
 #include "tests/support/limit_distance.h"
 #include "tests/support/uniform_tessellation.h"
 

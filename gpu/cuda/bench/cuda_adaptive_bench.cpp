@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/glb_writer.h"
-#include "core/obj_reader.h"
-#include "core/tessellate.h"
+#include "core/output/glb_writer.h"
+#include "core/mesh/obj_reader.h"
+#include "core/pipeline/tessellate.h"
 #include "gpu/cuda/bench/bench_timing.h"
 #include "gpu/cuda/cuda_surface.h"
 #include "gpu/cuda/device_info.h"

@@ -2,7 +2,7 @@
 // one valence refined to depth 4, 5 and 6, every level's 12n+1 points written to device memory.
 // Rings are uploaded once; each case times only the kernels, with CUDA events, as the mean of
 // several launches after a warm-up launch. Before timing, a sample of rings is checked against
-// the CPU path (core/fas.h refineRing) so that a wrong kernel cannot report a fast time. The
+// the CPU path (core/rings/fas.h refineRing) so that a wrong kernel cannot report a fast time. The
 // baseline beside it, in the same process: the CPU's refineRingBlocks on the same rings (all
 // cores, packed and output buffer prepared untimed), median of 5 calls after a warm-up.
 //
@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "core/fas.h"
+#include "core/rings/fas.h"
 #include "gpu/cuda/cuda_fas.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/support/ring_meshes.h"

@@ -1,0 +1,38 @@
+// The twist-free pair bound of docs/ADAPTIVE.md §3b, gathered piece by piece: each leaf (or a
+// node standing for its leaves) against an ancestor's pair through its diagonal map.
+#pragma once
+
+#include <array>
+
+#include "core/math/bezier_net.h"
+#include "core/bounds/diagonal_reparameterization.h"
+
+namespace tessera {
+
+// A leaf's own bounds, in an ancestor's units: its square [x, x + s] × [y, y + s], its corner
+// values, its distance from their bilinear B (with its stand-in r) and its sides' from their chords.
+struct LeafOwn {
+  Vec3d corners[4];
+  double x, y, s;
+  double pair, bows[4];
+  Vec3d bilinear(double u, double v) const { return bilinearAt(corners, (u - x) / s, (v - y) / s); }
+};
+
+// A square's Bézier net, computed from its parent's only when asked for.
+struct LazyNet {
+  const LazyNet* parent;
+  int quadrant;
+  mutable bool ready;
+  mutable BezierNet net;
+  const BezierNet& get() const {
+    if (!ready) net = quadrantNet(parent->get(), quadrant & 1, quadrant >> 1), ready = true;
+    return net;
+  }
+};
+
+// Raises `pair` and `bows` (the ancestor's maxima) to bound the square [x, x + s]² of the leaf
+// `own` (within r of the surface; `net` its net, or null for a node standing for its leaves).
+void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, double x, double y, double s,
+                          const DiagonalMap& map, double& pair, std::array<double, 4>& bows);
+
+}  // namespace tessera

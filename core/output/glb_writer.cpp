@@ -1,0 +1,611 @@
+#include "core/output/glb_writer.h"
+
+#include <tbb/parallel_for.h>
+
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <string_view>
+
+
+#include "core/base/error.h"
+#include "core/base/version.h"
+
+namespace tessera {
+
+namespace {
+
+// glTF 2.0 §4.4 (binary glTF): a 12-byte header, then chunks of (length, type, data), each
+// padded to 4 bytes (JSON with spaces, BIN with zeros).
+constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
+constexpr int kByte = 5120, kShort = 5122, kUnsignedShort = 5123, kUnsignedInt = 5125, kFloat = 5126;
+constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963, kTriangles = 4;
+constexpr const char* kMeshopt = "EXT_meshopt_compression";
+constexpr const char* kQuantization = "KHR_mesh_quantization";
+
+size_t padded(size_t bytes) { return (bytes + 3) & ~size_t(3); }
+
+// Indices as 16-bit integers when every vertex fits (a quarter less to send and to hash for
+// typical results of up to ~130K triangles); 65535 is glTF's primitive-restart value and may not
+// be used, so 16 bits hold at most 65535 vertices.
+bool fitsShortIndices(size_t vertices) { return vertices <= 65535; }
+
+// Quantized attributes, padded so every element starts on 4 bytes (glTF §3.6.2.4).
+struct QuantizedPosition {
+  std::array<int16_t, 3> q;
+  int16_t pad = 0;
+};
+struct QuantizedNormal {
+  int8_t x, y, z, pad = 0;
+};
+
+QuantizedNormal quantizeNormal(const Vec3& n) {
+  auto axis = [](float value) { return int8_t(std::clamp(std::nearbyint(value * 127.0f), -127.0f, 127.0f)); };
+  return {axis(n.x), axis(n.y), axis(n.z)};
+}
+
+// One bufferView: its element layout and bytes (the mesh's own arrays where they are stored as
+// they are), kept as they are or, with EXT_meshopt_compression, encoded (attributes or triangles
+// mode) in the BIN chunk while the view itself lies in a placeholder buffer.
+struct View {
+  const uint8_t* data = nullptr;  // the bytes a reader sees
+  size_t size = 0;
+  std::vector<uint8_t> owned;     // those bytes when the mesh does not hold them
+  std::vector<uint16_t> shortIndices;  // or, for 16-bit indices, these
+  size_t stride = 0, count = 0;
+  int target = kArrayBuffer;
+  std::vector<uint8_t> compressed;  // empty: stored as is
+};
+
+template <typename T>
+View viewOf(const std::vector<T>& values, int target = kArrayBuffer) {
+  View view;
+  view.stride = sizeof(T), view.count = values.size(), view.target = target;
+  view.data = reinterpret_cast<const uint8_t*>(values.data());
+  view.size = values.size() * sizeof(T);
+  return view;
+}
+
+template <typename T>
+View ownedViewOf(const std::vector<T>& values, int target = kArrayBuffer) {
+  View view = viewOf(values, target);
+  view.owned.assign(view.data, view.data + view.size);
+  view.data = view.owned.data();
+  return view;
+}
+
+// Texture coordinates, (u, v) floats per vertex: glTF's TEXCOORD_0 (float in every encoding,
+// which KHR_mesh_quantization allows).
+View uvView(const std::vector<float>& uvs) {
+  View view = viewOf(uvs);
+  view.stride = 2 * sizeof(float), view.count = uvs.size() / 2;
+  return view;
+}
+
+View indexView(const std::vector<uint32_t>& indices, size_t vertices) {
+  if (!fitsShortIndices(vertices)) return viewOf(indices, kElementArrayBuffer);
+  View view;
+  view.shortIndices.resize(indices.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, indices.size(), 1 << 16), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) view.shortIndices[i] = static_cast<uint16_t>(indices[i]);
+  });
+  view.stride = sizeof(uint16_t), view.count = indices.size(), view.target = kElementArrayBuffer;
+  view.data = reinterpret_cast<const uint8_t*>(view.shortIndices.data());
+  view.size = view.shortIndices.size() * sizeof(uint16_t);
+  return view;
+}
+
+// The bitstream versions EXT_meshopt_compression specifies (attributes 0xa0, triangles 0xe1).
+void useSpecifiedCodecVersions() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    meshopt_encodeVertexVersion(0);
+    meshopt_encodeIndexVersion(1);
+  });
+}
+
+void compressAttributes(View& view) {
+  view.compressed.resize(meshopt_encodeVertexBufferBound(view.count, view.stride));
+  view.compressed.resize(meshopt_encodeVertexBuffer(view.compressed.data(), view.compressed.size(),
+                                                    view.data, view.count, view.stride));
+}
+
+void compressTriangles(View& view, const std::vector<uint32_t>& indices, size_t vertices) {
+  view.compressed.resize(meshopt_encodeIndexBufferBound(indices.size(), vertices));
+  view.compressed.resize(
+      meshopt_encodeIndexBuffer(view.compressed.data(), view.compressed.size(), indices.data(), indices.size()));
+}
+
+// The mesh as the file stores it: attributes in the encoding's types; for EXT_meshopt_compression
+// triangles ordered for the vertex cache and vertices in first-use order, which is what its codecs
+// compress well (the same triangles over the same vertices).
+struct Stored {
+  std::vector<View> views;  // positions, normals, indices, and texture coordinates when the mesh has them
+  int positionType = kFloat, normalType = kFloat;
+  std::array<double, 3> positionMin{}, positionMax{};
+  Vec3d origin{0, 0, 0};  // the node's translation before quantization's (TriangleMesh::origin)
+};
+
+void positionBounds(const std::vector<Vec3>& positions, Stored& stored) {
+  if (positions.empty()) return;
+  Vec3 a = positions[0], b = positions[0];
+  for (const Vec3& v : positions) {
+    a = Vec3(std::min(a.x, v.x), std::min(a.y, v.y), std::min(a.z, v.z));
+    b = Vec3(std::max(b.x, v.x), std::max(b.y, v.y), std::max(b.z, v.z));
+  }
+  stored.positionMin = {a.x, a.y, a.z};
+  stored.positionMax = {b.x, b.y, b.z};
+}
+
+Stored storePlain(const TriangleMesh& mesh) {
+  Stored stored;
+  positionBounds(mesh.positions, stored);
+  stored.views.push_back(viewOf(mesh.positions));
+  stored.views.push_back(viewOf(mesh.normals));
+  stored.views.push_back(indexView(mesh.indices, mesh.positions.size()));
+  if (!mesh.uvs.empty()) stored.views.push_back(uvView(mesh.uvs));
+  return stored;
+}
+
+Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
+  const size_t vertexCount = mesh.positions.size();
+  const bool compress = options.encoding == GlbEncoding::kMeshopt;
+  std::vector<uint32_t> reordered;  // meshopt: the triangles in cache order, vertices renumbered
+  const std::vector<uint32_t>& indices = compress ? reordered : mesh.indices;
+  std::vector<uint32_t> order(vertexCount);  // stored vertex k is mesh vertex order[k]
+  std::iota(order.begin(), order.end(), 0u);
+  size_t stored = vertexCount;
+  if (compress && !mesh.indices.empty()) {
+    reordered.resize(mesh.indices.size());
+    meshopt_optimizeVertexCache(reordered.data(), mesh.indices.data(), reordered.size(), vertexCount);
+    std::vector<uint32_t> remap(vertexCount);
+    stored = meshopt_optimizeVertexFetchRemap(remap.data(), reordered.data(), reordered.size(), vertexCount);
+    meshopt_remapIndexBuffer(reordered.data(), reordered.data(), reordered.size(), remap.data());
+    order.assign(stored, 0);
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+      if (remap[v] != ~0u) order[remap[v]] = v;
+    }
+  }
+  Stored result;
+  std::vector<QuantizedNormal> normals(stored);
+  for (size_t k = 0; k < stored; ++k) normals[k] = quantizeNormal(mesh.normals[order[k]]);
+  result.normalType = kByte;
+  if (options.positions) {
+    std::vector<QuantizedPosition> positions(stored);
+    std::array<int, 3> lo{32767, 32767, 32767}, hi{-32767, -32767, -32767};
+    for (size_t k = 0; k < stored; ++k) {
+      positions[k].q = options.positions->quantize(mesh.positions[order[k]]);
+      for (int a = 0; a < 3; ++a) lo[a] = std::min<int>(lo[a], positions[k].q[a]), hi[a] = std::max<int>(hi[a], positions[k].q[a]);
+    }
+    result.positionType = kShort;
+    for (int a = 0; a < 3; ++a) result.positionMin[a] = lo[a], result.positionMax[a] = hi[a];
+    result.views.push_back(ownedViewOf(positions));
+  } else {
+    std::vector<Vec3> positions(stored);
+    for (size_t k = 0; k < stored; ++k) positions[k] = mesh.positions[order[k]];
+    positionBounds(positions, result);
+    result.views.push_back(ownedViewOf(positions));
+  }
+  result.views.push_back(ownedViewOf(normals));
+  View index = indexView(indices, stored);
+  if (compress && index.owned.empty() && index.shortIndices.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
+  result.views.push_back(std::move(index));
+  if (!mesh.uvs.empty()) {
+    std::vector<std::array<float, 2>> uvs(stored);
+    for (size_t k = 0; k < stored; ++k) uvs[k] = {mesh.uvs[2 * order[k]], mesh.uvs[2 * order[k] + 1]};
+    result.views.push_back(ownedViewOf(uvs));
+  }
+  if (compress) {
+    useSpecifiedCodecVersions();
+    compressAttributes(result.views[0]);
+    compressAttributes(result.views[1]);
+    compressTriangles(result.views[2], indices, stored);
+    if (result.views.size() > 3) compressAttributes(result.views[3]);
+  }
+  return result;
+}
+
+// The JSON chunk written directly, keys in the byte order nlohmann::json keeps them (the files
+// are the same as when it was built as a json tree and dumped; that tree cost ~210K instructions
+// a call, 10 % of a small request's whole time). Numbers and strings go through nlohmann's own
+// serializer, so their formatting and escaping stay its.
+class JsonChunk {
+ public:
+  JsonChunk& raw(std::string_view text) {
+    text_ += text;
+    return *this;
+  }
+  // `"key":`, after a comma unless it opens its object.
+  JsonChunk& key(std::string_view name) {
+    if (text_.back() != '{' && text_.back() != '[') text_ += ',';
+    text_ += '"';
+    text_ += name;
+    return raw("\":");
+  }
+  // A value in an array (a comma before all but the first).
+  JsonChunk& item() {
+    if (text_.back() != '[') text_ += ',';
+    return *this;
+  }
+  JsonChunk& number(size_t value) { return raw(std::to_string(value)); }
+  JsonChunk& number(int value) { return raw(std::to_string(value)); }
+  JsonChunk& number(double value) { return raw(nlohmann::json(value).dump()); }
+  JsonChunk& string(const std::string& value) { return raw(nlohmann::json(value).dump()); }
+  JsonChunk& vector(const double (&v)[3]) {
+    raw("[").number(v[0]).raw(",").number(v[1]).raw(",").number(v[2]);
+    return raw("]");
+  }
+  std::string take() { return std::move(text_); }
+
+ private:
+  std::string text_;
+};
+
+void writeExtras(const GlbOptions& options, JsonChunk& json) {
+  const GlbDescription& d = options.description;
+  json.raw("{").key("encoding").string(glbEncodingName(options.encoding));
+  json.key("guaranteedBound").number(d.guaranteedBound);
+  if (d.pixelAccuracy) json.key("pixelAccuracy").number(*d.pixelAccuracy);
+  if (options.positions) json.key("positionError").number(options.positions->maxError);
+  json.key("source").raw("{").key("name").string(d.sourceName);
+  if (!d.sourceSha256.empty()) json.key("sha256").string(d.sourceSha256);
+  json.raw("}");
+  if (d.tolerance) json.key("tolerance").number(*d.tolerance);
+  if (d.uniformLevel > 0) json.key("uniformLevel").number(d.uniformLevel);
+  json.raw("}");
+}
+
+void writeAccessor(JsonChunk& json, size_t view, int componentType, size_t count) {
+  json.item().raw("{").key("bufferView").number(view).key("componentType").number(componentType);
+  json.key("count").number(count);
+}
+
+void writeAccessors(const Stored& stored, JsonChunk& json) {
+  json.key("accessors").raw("[");
+  writeAccessor(json, 0, stored.positionType, stored.views[0].count);
+  if (stored.views[0].count > 0) {
+    const auto& lo = stored.positionMin;
+    const auto& hi = stored.positionMax;
+    json.key("max").vector({hi[0], hi[1], hi[2]}).key("min").vector({lo[0], lo[1], lo[2]});
+  }
+  json.key("type").string("VEC3").raw("}");
+  writeAccessor(json, 1, stored.normalType, stored.views[1].count);
+  if (stored.normalType == kByte) json.key("normalized").raw("true");
+  json.key("type").string("VEC3").raw("}");
+  const View& indices = stored.views[2];
+  writeAccessor(json, 2, indices.stride == 2 ? kUnsignedShort : kUnsignedInt, indices.count);
+  json.key("type").string("SCALAR").raw("}");
+  if (stored.views.size() > 3) {
+    writeAccessor(json, 3, kFloat, stored.views[3].count);
+    json.key("type").string("VEC2").raw("}");
+  }
+  json.raw("]");
+}
+
+void writeBufferViews(const Stored& stored, bool compressed, size_t binBytes, JsonChunk& json) {
+  json.key("bufferViews").raw("[");
+  size_t binOffset = 0, fallbackOffset = 0;
+  for (const View& view : stored.views) {
+    json.item().raw("{").key("buffer").number(size_t(compressed ? 1 : 0)).key("byteLength").number(view.size);
+    json.key("byteOffset").number(compressed ? fallbackOffset : binOffset);
+    // Vertex attributes name their stride (quantized ones are padded past their element).
+    if (view.target == kArrayBuffer) json.key("byteStride").number(view.stride);
+    if (compressed) {
+      fallbackOffset += padded(view.size);
+      json.key("extensions").raw("{").key(kMeshopt).raw("{").key("buffer").number(size_t(0));
+      json.key("byteLength").number(view.compressed.size()).key("byteOffset").number(binOffset);
+      json.key("byteStride").number(view.stride).key("count").number(view.count);
+      json.key("mode").string(view.target == kArrayBuffer ? "ATTRIBUTES" : "TRIANGLES").raw("}}");
+      binOffset += padded(view.compressed.size());
+    } else {
+      binOffset += padded(view.size);
+    }
+    json.key("target").number(view.target).raw("}");
+  }
+  json.raw("]").key("buffers").raw("[{").key("byteLength").number(binBytes).raw("}");
+  if (compressed) {
+    json.raw(",{").key("byteLength").number(fallbackOffset);
+    json.key("extensions").raw("{").key(kMeshopt).raw("{").key("fallback").raw("true}}}");
+  }
+  json.raw("]");
+}
+
+// The JSON chunk: one scene, one node (carrying the quantization grid's translation and scale),
+// one mesh whose primitive reads positions, normals and indices from three views (and texture
+// coordinates from a fourth).
+std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
+  const std::string& name = options.description.sourceName;
+  const bool compressed = options.encoding == GlbEncoding::kMeshopt;
+  JsonChunk json;
+  json.raw("{");
+  writeAccessors(stored, json);
+  json.key("asset").raw("{").key("extras");
+  writeExtras(options, json);
+  json.key("generator").string(std::string("Tessera ") + kVersion).key("version").string("2.0").raw("}");
+  writeBufferViews(stored, compressed, binBytes, json);
+  std::vector<const char*> extensions;
+  if (options.encoding != GlbEncoding::kFloat) extensions.push_back(kQuantization);
+  if (compressed) extensions.push_back(kMeshopt);
+  for (const char* list : {"extensionsRequired", "extensionsUsed"}) {
+    if (extensions.empty()) break;
+    json.key(list).raw("[");
+    for (const char* extension : extensions) json.item().string(extension);
+    json.raw("]");
+  }
+  json.key("meshes").raw("[{").key("name").string(name).key("primitives").raw("[{");
+  json.key("attributes").raw("{").key("NORMAL").number(1).key("POSITION").number(0);
+  if (stored.views.size() > 3) json.key("TEXCOORD_0").number(3);
+  json.raw("}");
+  json.key("indices").number(2).key("mode").number(kTriangles).raw("}]}]");
+  json.key("nodes").raw("[{").key("mesh").number(0).key("name").string(name);
+  // The node carries the mesh's origin (far from the origin, the positions are relative to it)
+  // and the quantization grid's centre, relative to that origin, in double precision.
+  const Vec3d& origin = stored.origin;
+  if (options.positions) {
+    const PositionQuantization& q = *options.positions;
+    json.key("scale").vector({q.step, q.step, q.step});
+    json.key("translation").vector({origin.x + q.center.x, origin.y + q.center.y, origin.z + q.center.z});
+  } else if (origin.x != 0 || origin.y != 0 || origin.z != 0) {
+    json.key("translation").vector({origin.x, origin.y, origin.z});
+  }
+  json.raw("}]").key("scene").number(0).key("scenes").raw("[{").key("nodes").raw("[0]}]}");
+  return json.take();
+}
+
+void put32(uint8_t* at, uint32_t value) { std::memcpy(at, &value, 4); }
+
+}  // namespace
+
+const char* glbEncodingName(GlbEncoding encoding) {
+  switch (encoding) {
+    case GlbEncoding::kQuantized: return "quantized";
+    case GlbEncoding::kMeshopt: return "meshopt";
+    case GlbEncoding::kFloat: break;
+  }
+  return "float";
+}
+
+GlbEncoding parseGlbEncoding(const std::string& name) {
+  for (GlbEncoding e : {GlbEncoding::kFloat, GlbEncoding::kQuantized, GlbEncoding::kMeshopt}) {
+    if (name == glbEncodingName(e)) return e;
+  }
+  throwInvalid("unknown GLB encoding \"" + name + "\" (float, quantized or meshopt)");
+}
+
+std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& options) {
+  if (mesh.normals.size() != mesh.positions.size()) throwInvalid("could not write the GLB: normals and positions differ in count");
+  if (!mesh.uvs.empty() && mesh.uvs.size() != 2 * mesh.positions.size()) throwInvalid("could not write the GLB: UVs and positions differ in count");
+  Stored stored = options.encoding == GlbEncoding::kFloat ? storePlain(mesh) : storeQuantized(mesh, options);
+  stored.origin = mesh.origin;
+  size_t binBytes = 0;
+  for (const View& view : stored.views) binBytes += padded(view.compressed.empty() ? view.size : view.compressed.size());
+  std::string json = glbJson(stored, options, binBytes);
+  json.resize(padded(json.size()), ' ');
+  const size_t total = 12 + 8 + json.size() + 8 + binBytes;
+  if (total > UINT32_MAX) throwLimit("the GLB would be over 4 GiB, the format's limit; raise the tolerance");
+  // Appended piece by piece into its room (not zero-filled first, then copied over).
+  std::vector<uint8_t> glb;
+  glb.reserve(total);
+  auto append32 = [&glb](uint32_t value) {
+    uint8_t bytes[4];
+    put32(bytes, value);
+    glb.insert(glb.end(), bytes, bytes + 4);
+  };
+  append32(kGlbMagic), append32(2), append32(uint32_t(total));
+  append32(uint32_t(json.size())), append32(kChunkJson);
+  glb.insert(glb.end(), json.begin(), json.end());
+  append32(uint32_t(binBytes)), append32(kChunkBin);
+  for (const View& view : stored.views) {
+    const bool compressed = !view.compressed.empty();
+    const size_t size = compressed ? view.compressed.size() : view.size;
+    const uint8_t* data = compressed ? view.compressed.data() : view.data;
+    if (size) glb.insert(glb.end(), data, data + size);
+    glb.resize(glb.size() + padded(size) - size, 0);
+  }
+  return glb;
+}
+
+namespace {
+
+// A GLB taken apart (glTF 2.0 §4.4): its JSON and its BIN chunk (buffer 0).
+struct GlbFile {
+  nlohmann::json json;
+  const uint8_t* bin = nullptr;
+  size_t binSize = 0;
+};
+
+uint32_t get32(const uint8_t* at) {
+  uint32_t value;
+  std::memcpy(&value, at, 4);
+  return value;
+}
+
+GlbFile parseGlb(const std::vector<uint8_t>& bytes) {
+  if (bytes.size() < 20 || get32(bytes.data()) != kGlbMagic || get32(bytes.data() + 4) != 2 ||
+      get32(bytes.data() + 8) > bytes.size()) {
+    throwInvalid("not a readable GLB: no glTF 2.0 header");
+  }
+  const size_t end = get32(bytes.data() + 8), jsonSize = get32(bytes.data() + 12);
+  if (get32(bytes.data() + 16) != kChunkJson || jsonSize > end - 20) throwInvalid("not a readable GLB: no JSON chunk");
+  GlbFile file;
+  file.json = nlohmann::json::parse(bytes.begin() + 20, bytes.begin() + 20 + std::ptrdiff_t(jsonSize), nullptr, false);
+  if (file.json.is_discarded() || !file.json.is_object()) throwInvalid("not a readable GLB: its JSON does not parse");
+  const size_t binAt = 20 + jsonSize;
+  if (binAt + 8 <= end && get32(bytes.data() + binAt + 4) == kChunkBin) {
+    file.binSize = get32(bytes.data() + binAt);
+    if (file.binSize > end - binAt - 8) throwInvalid("not a readable GLB: its BIN chunk is cut short");
+    file.bin = bytes.data() + binAt + 8;
+  }
+  return file;
+}
+
+size_t number(const nlohmann::json& object, const char* key) {
+  const auto found = object.find(key);
+  return found != object.end() && found->is_number_unsigned() ? found->get<size_t>() : 0;
+}
+
+const nlohmann::json& element(const nlohmann::json& json, const char* array, size_t index, const std::string& what) {
+  const auto found = json.find(array);
+  if (found == json.end() || !found->is_array() || index >= found->size()) throwInvalid("GLB has no " + what);
+  return (*found)[index];
+}
+
+// A view's bytes as a reader sees them: from the BIN chunk, or decoded from EXT_meshopt_compression.
+std::vector<uint8_t> viewBytes(const GlbFile& file, size_t index, const std::string& what) {
+  const nlohmann::json& view = element(file.json, "bufferViews", index, what + " view");
+  auto bin = [&](size_t buffer, size_t offset, size_t length) {
+    if (buffer != 0 || offset > file.binSize || length > file.binSize - offset) {
+      throwInvalid("GLB " + what + " view reaches past its buffer");
+    }
+    return file.bin + offset;
+  };
+  const size_t length = number(view, "byteLength");
+  const auto extensions = view.find("extensions");
+  if (extensions == view.end() || !extensions->contains(kMeshopt)) {
+    const uint8_t* data = bin(number(view, "buffer"), number(view, "byteOffset"), length);
+    return std::vector<uint8_t>(data, data + length);
+  }
+  const nlohmann::json& e = (*extensions)[kMeshopt];
+  const size_t stride = number(e, "byteStride"), count = number(e, "count"), compressed = number(e, "byteLength");
+  const uint8_t* data = bin(number(e, "buffer"), number(e, "byteOffset"), compressed);
+  const std::string mode = e.value("mode", "");
+  if (stride == 0 || stride > 256 || count * stride != length) throwInvalid("GLB " + what + " view's compressed layout does not match it");
+  std::vector<uint8_t> bytes(length);
+  const int status = mode == "ATTRIBUTES" ? meshopt_decodeVertexBuffer(bytes.data(), count, stride, data, compressed)
+                     : mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(bytes.data(), count, stride, data, compressed)
+                                           : -1;
+  if (status != 0) throwInvalid("GLB " + what + " view does not decode (mode \"" + mode + "\")");
+  return bytes;
+}
+
+size_t componentBytes(int componentType) {
+  switch (componentType) {
+    case kByte: return 1;
+    case kShort:
+    case kUnsignedShort: return 2;
+    case kUnsignedInt:
+    case kFloat: return 4;
+  }
+  return 0;
+}
+
+// Element k of accessor `index`, of one of the types writeGlb stores: components as floats
+// (normalized integers as glTF §3.11 maps them), or an index.
+class AccessorReader {
+ public:
+  AccessorReader(const GlbFile& file, size_t index, const char* type, const std::string& what) {
+    const nlohmann::json& accessor = element(file.json, "accessors", index, what);
+    componentType_ = int(number(accessor, "componentType"));
+    normalized_ = accessor.value("normalized", false);
+    count_ = number(accessor, "count");
+    const std::string name = type;
+    const size_t element = componentBytes(componentType_) * (name == "VEC3" ? 3 : name == "VEC2" ? 2 : 1);
+    if (accessor.value("type", "") != type || element == 0) throwInvalid("GLB " + what + " accessor has an unexpected type");
+    const size_t view = number(accessor, "bufferView");
+    bytes_ = viewBytes(file, view, what);
+    const size_t viewStride = number(file.json["bufferViews"][view], "byteStride");
+    stride_ = viewStride > 0 ? viewStride : element;
+    offset_ = number(accessor, "byteOffset");
+    if (count_ > 0 && (stride_ < element || offset_ + (count_ - 1) * stride_ + element > bytes_.size())) {
+      throwInvalid("GLB " + what + " accessor reaches past its buffer");
+    }
+  }
+  size_t count() const { return count_; }
+  float component(size_t k, int c) const {
+    const uint8_t* at = bytes_.data() + offset_ + k * stride_ + c * componentBytes(componentType_);
+    switch (componentType_) {
+      case kFloat: return load<float>(at);
+      case kShort: return scaled(load<int16_t>(at), 32767.0f);
+      case kByte: return scaled(load<int8_t>(at), 127.0f);
+    }
+    throwInvalid("GLB attribute has a component type writeGlb does not write");
+  }
+  uint32_t index(size_t k) const {
+    const uint8_t* at = bytes_.data() + offset_ + k * stride_;
+    if (componentType_ == kUnsignedShort) return load<uint16_t>(at);
+    if (componentType_ == kUnsignedInt) return load<uint32_t>(at);
+    throwInvalid("GLB indices are neither 16- nor 32-bit");
+  }
+
+ private:
+  template <typename T>
+  static T load(const uint8_t* at) {
+    T value;
+    std::memcpy(&value, at, sizeof value);
+    return value;
+  }
+  float scaled(float value, float largest) const { return normalized_ ? std::max(value / largest, -1.0f) : value; }
+
+  std::vector<uint8_t> bytes_;
+  size_t offset_ = 0, stride_ = 0, count_ = 0;
+  int componentType_ = 0;
+  bool normalized_ = false;
+};
+
+// The node's translation and scale (its defaults when absent), as a viewer's float32 values.
+std::array<float, 3> nodeVector(const nlohmann::json& file, const char* key, float fallback) {
+  std::array<float, 3> value{fallback, fallback, fallback};
+  const auto nodes = file.find("nodes");
+  if (nodes == file.end() || !nodes->is_array() || nodes->empty()) return value;
+  const auto found = (*nodes)[0].find(key);
+  if (found == (*nodes)[0].end() || !found->is_array() || found->size() != 3) return value;
+  for (size_t a = 0; a < 3; ++a) value[a] = (*found)[a].is_number() ? (*found)[a].get<float>() : fallback;
+  return value;
+}
+
+size_t attribute(const nlohmann::json& primitive, const char* name) {
+  const auto attributes = primitive.find("attributes");
+  if (attributes == primitive.end() || !attributes->contains(name)) throwInvalid(std::string("GLB primitive has no ") + name);
+  return number(*attributes, name);
+}
+
+}  // namespace
+
+TriangleMesh readGlb(const std::vector<uint8_t>& bytes) {
+  const GlbFile file = parseGlb(bytes);
+  const nlohmann::json& mesh0 = element(file.json, "meshes", 0, "mesh");
+  const auto primitives = mesh0.find("primitives");
+  if (file.json["meshes"].size() != 1 || primitives == mesh0.end() || !primitives->is_array() || primitives->size() != 1) {
+    throwInvalid("expected one primitive");
+  }
+  const nlohmann::json& primitive = (*primitives)[0];
+  const AccessorReader positions(file, attribute(primitive, "POSITION"), "VEC3", "position");
+  const AccessorReader normals(file, attribute(primitive, "NORMAL"), "VEC3", "normal");
+  const AccessorReader indices(file, number(primitive, "indices"), "SCALAR", "index");
+  // Positions through the node's translation and scale, in float as a viewer computes them.
+  const std::array<float, 3> translation = nodeVector(file.json, "translation", 0), scale = nodeVector(file.json, "scale", 1);
+  TriangleMesh mesh;
+  mesh.positions.resize(positions.count());
+  for (size_t k = 0; k < positions.count(); ++k) {
+    float p[3];
+    for (int a = 0; a < 3; ++a) p[a] = translation[a] + scale[a] * positions.component(k, a);
+    mesh.positions[k] = Vec3(p[0], p[1], p[2]);
+  }
+  mesh.normals.resize(normals.count());
+  for (size_t k = 0; k < normals.count(); ++k) {
+    mesh.normals[k] = Vec3(normals.component(k, 0), normals.component(k, 1), normals.component(k, 2));
+  }
+  const auto attributes = primitive.find("attributes");
+  if (attributes != primitive.end() && attributes->contains("TEXCOORD_0")) {
+    const AccessorReader uvs(file, attribute(primitive, "TEXCOORD_0"), "VEC2", "texture coordinate");
+    if (uvs.count() != positions.count()) throwInvalid("GLB has " + std::to_string(uvs.count()) + " texture coordinates for " + std::to_string(positions.count()) + " vertices");
+    mesh.uvs.resize(2 * uvs.count());
+    for (size_t k = 0; k < uvs.count(); ++k) mesh.uvs[2 * k] = uvs.component(k, 0), mesh.uvs[2 * k + 1] = uvs.component(k, 1);
+  }
+  mesh.indices.resize(indices.count());
+  for (size_t k = 0; k < indices.count(); ++k) {
+    mesh.indices[k] = indices.index(k);
+    if (mesh.indices[k] >= mesh.positions.size()) throwInvalid("GLB index " + std::to_string(mesh.indices[k]) + " has no vertex");
+  }
+  return mesh;
+}
+
+}  // namespace tessera

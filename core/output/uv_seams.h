@@ -1,0 +1,19 @@
+// UVs for a tessellated mesh: each triangle corner's UV evaluated on the limit surface in its own
+// base face, and a vertex split where the faces around it disagree (a UV seam), so positions
+// stay bit-identical on both sides and the mesh stays watertight by position.
+#pragma once
+
+#include <vector>
+
+#include "core/mesh/control_mesh.h"
+#include "core/topology/limit_uvs.h"
+#include "core/uniform/watertight_tessellator.h"
+
+namespace tessera {
+
+// `corners`: where each triangle corner lies (base face, sub-face, (u, v) in Bfr's
+// parameterization). Fills `mesh.uvs` (u, v per vertex) and appends the seam copies of vertices
+// (position, normal and any per-vertex records repeated; vertexPoint names the vertex copied).
+void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vector<UvQuery>& corners, TriangleMesh& mesh);
+
+}  // namespace tessera

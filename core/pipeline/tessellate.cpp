@@ -1,0 +1,132 @@
+#include "core/pipeline/tessellate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+#include "core/surface/adaptive_surface.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/base/error.h"
+#include "core/uniform/tessellation_plan.h"
+#include "core/output/uv_seams.h"
+
+namespace tessera {
+
+namespace {
+double millisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The user path for a tolerance: tiles over the surface tree (docs/ADAPTIVE.md).
+TessellationResult tessellateToTolerance(const PatchSet& patches, const TessellationOptions& options) {
+  const AdaptiveSurface& surface = *patches.adaptive;
+  auto start = std::chrono::steady_clock::now();
+  const AdaptiveLayout layout = layoutAdaptive(patches, surface, options);
+  const AdaptivePlan& plan = layout.plan;
+  TessellationResult result;
+  result.summary.planMs = millisecondsSince(start);
+  start = std::chrono::steady_clock::now();
+  result.mesh = tessellateAdaptive(patches, surface, layout, options.recordParameters, options.checkpoint,
+                                   options.vertexEvaluation);
+  result.summary.tessellateMs = millisecondsSince(start);
+  TessellationSummary& s = result.summary;
+  s.triangles = int64_t(result.mesh.triangleCount());
+  s.vertices = int64_t(result.mesh.positions.size());
+  s.pieces = int64_t(plan.tiles.size());
+  s.rings = int(patches.rings.size());
+  long levels = 0;
+  for (const Tile& tile : plan.tiles) {
+    levels += tile.level;
+    s.maxDepth = std::max(s.maxDepth, tile.level);
+  }
+  s.averageDepth = plan.tiles.empty() ? 0.0 : double(levels) / double(plan.tiles.size());
+  s.guaranteedBound = plan.guaranteedBound + options.encodingReserve;
+  s.tolerance = plan.tiles.empty() ? 0.0 : plan.tolerance + options.encodingReserve;
+  return result;
+}
+
+TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh& mesh, const TessellationOptions& options);
+
+// Where each triangle corner lies in its base face: recorded so by the adaptive path; the uniform
+// path records (s, t) in each corner's piece, mapped here through the piece's domain.
+std::vector<UvQuery> cornerParameters(const TessellationResult& result) {
+  const TriangleMesh& mesh = result.mesh;
+  std::vector<UvQuery> corners(mesh.indices.size());
+  for (size_t c = 0; c < corners.size(); ++c) {
+    const double s = mesh.triangleST[2 * c], t = mesh.triangleST[2 * c + 1];
+    if (result.plan.pieces.empty()) {
+      corners[c] = {mesh.triangleFace[c / 3], mesh.triangleSubFace[c / 3], s, t};
+      continue;
+    }
+    const PatchDomain& domain = result.plan.pieces[mesh.trianglePiece[c / 3]].domain;
+    corners[c].face = domain.baseFace, corners[c].subFace = domain.subFace;
+    domain.map(s, t, corners[c].u, corners[c].v);
+  }
+  return corners;
+}
+
+// The parameters UVs needed, dropped again when the caller did not ask for them.
+void forgetParameters(TriangleMesh& mesh) {
+  for (auto* values : {&mesh.triangleFace, &mesh.triangleSubFace, &mesh.vertexFace, &mesh.vertexSubFace}) std::vector<int>().swap(*values);
+  for (auto* values : {&mesh.triangleST, &mesh.vertexUv}) std::vector<double>().swap(*values);
+  for (auto* values : {&mesh.trianglePiece, &mesh.vertexPoint}) std::vector<uint32_t>().swap(*values);
+}
+
+}  // namespace
+
+// A camera is in model units; the surface is relative to the mesh's origin, and so is the output.
+// A mesh with UVs is tessellated with its triangles' parameters recorded, where its UVs are
+// evaluated (core/output/uv_seams.h).
+TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
+                              const TessellationOptions& options) {
+  validateTessellationOptions(options);
+  TessellationOptions relative = options;
+  if (relative.camera) {
+    relative.camera->eye = relative.camera->eye - mesh.origin;
+    relative.camera->target = relative.camera->target - mesh.origin;
+  }
+  relative.recordParameters = options.recordParameters || patches.uvs;
+  TessellationResult result = tessellateSurface(patches, mesh, relative);
+  result.mesh.origin = mesh.origin;
+  if (!patches.uvs) return result;
+  attachUvs(mesh, *patches.uvs, cornerParameters(result), result.mesh);
+  if (!options.recordParameters) forgetParameters(result.mesh);
+  result.summary.vertices = int64_t(result.mesh.positions.size());
+  return result;
+}
+
+namespace {
+
+TessellationResult tessellateSurface(const PatchSet& patches, const ControlMesh& mesh, const TessellationOptions& options) {
+  if (!options.accuracy.uniform() && options.eta > 0 && patches.adaptive) return tessellateToTolerance(patches, options);
+  auto start = std::chrono::steady_clock::now();
+  TessellationPlan plan = planTessellation(patches, options);
+  TessellationResult result;
+  result.summary.planMs = millisecondsSince(start);
+  int64_t estimate = estimateTriangles(plan);
+  if (estimate > options.maxTriangles) {
+    throwLimit("the request would produce about " + std::to_string(estimate) +
+               " triangles, over the budget of " + std::to_string(options.maxTriangles) +
+               "; raise the tolerance or the triangle budget");
+  }
+  if (options.beforeOutput) options.beforeOutput(estimate);
+  start = std::chrono::steady_clock::now();
+  FaceTopology faces(mesh.faceSizes, mesh.faceVertices);
+  result.mesh = tessellatePlan(plan, faces, options.recordParameters, options.checkpoint);
+  result.summary.tessellateMs = millisecondsSince(start);
+  TessellationSummary& s = result.summary;
+  s.triangles = int64_t(result.mesh.triangleCount());
+  s.vertices = int64_t(result.mesh.positions.size());
+  s.pieces = int64_t(plan.pieces.size());
+  s.rings = plan.rings;
+  s.averageDepth = plan.averageDepth;
+  s.maxDepth = plan.maxDepth;
+  s.guaranteedBound = plan.guaranteedBound + options.encodingReserve;
+  s.tolerance = options.accuracy.uniform() ? 0.0 : plan.tolerance + options.encodingReserve;  // a level asks for none
+  result.plan = std::move(plan);
+  return result;
+}
+
+}  // namespace
+
+}  // namespace tessera

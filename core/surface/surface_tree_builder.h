@@ -1,0 +1,153 @@
+// The builder of the surface tree (surface_tree.h), shared by its two source files:
+// surface_tree.cpp builds the quadtree and each node's stand-in and curvature bounds,
+// surface_tree_pair_bounds.cpp each node's pair bound and side bows (docs/ADAPTIVE.md §3, §3a,
+// §3b). Internal to them.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "core/bounds/axis_reparameterization.h"
+#include "core/bounds/diagonal_reparameterization.h"
+#include "core/bounds/flat_pair_bound.h"
+#include "core/surface/surface_tree.h"
+
+namespace tessera::surface_tree_building {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+// Nodes whose pair bound through the stand-in is below this many chain floors (10⁻⁵ of the
+// diagonal) keep it: finer than any tile at the tolerances asked for, they are many (the deep
+// levels of every EV chain) and the diagonal maps' bound is the costly one (§3b).
+constexpr double kDiagonalFloor = 100;
+// A leaf's pair is bounded through a graded map (§3c) where its bound at equal parameters is above
+// kGradedFloor times the chain floor (10⁻⁴ of the diagonal, the finest relative tolerance the
+// benchmarks ask) and more than kGradedSlack times the lower bound every pair bound has: elsewhere
+// the map costs more than it can take off.
+constexpr double kGradedFloor = 1000;
+constexpr double kGradedSlack = 2;
+// How many levels above a leaf its net is bounded against each ancestor's diagonal map; farther
+// up, the node kDiagonalReach + 1 levels below the ancestor stands for it (standForLeaves).
+constexpr int kDiagonalReach = 5;
+// How many levels below a node its descendants are gathered for its flat pair bound (§3d); deeper
+// ones stand in with their corners and pair bounds.
+constexpr int kFlatReach = 3;
+
+// Keeps a flat bound (docs/ADAPTIVE.md §3d) where it beats the node's pair bound so far, with the
+// bows and diagonal that then hold.
+void keepFlatPair(SurfaceNode& node, const FlatPairBound& flat, const Vec3d corners[4]);
+
+// Rounds a bound up to the next float, so that storing it in single precision keeps it a bound.
+inline float roundUp(double value) {
+  float f = float(value);
+  return double(f) < value ? std::nextafter(f, kInfinity) : f;
+}
+
+// What the quadtree of a root is built from: regular patches and ring sectors, each a square.
+struct Item {
+  int level;
+  uint64_t ix, iy;
+  bool sector;
+  uint32_t index;  // regular patch, or ring
+  int ringSector;
+};
+
+// Where an EV quadrant sits in its ring: the ring, its sector and the FAS level.
+struct ChainStep {
+  uint32_t ring;
+  int sector, level;
+};
+
+// A node's stand-in and the exact surface values at its corners, passed up while building.
+struct NodeFit {
+  BezierNet g;
+  double r = 0;
+  Vec3d corners[4];
+};
+
+class TreeBuilder {
+ public:
+  TreeBuilder(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint)
+      : patches_(patches), mesh_(mesh), checkpoint_(checkpoint) {}
+  SurfaceTree build();
+
+ private:
+  void makeRoots();
+  void refineRings();
+  std::vector<std::vector<Item>> collectItems() const;
+  uint32_t allocateChildren();
+  void fill(uint32_t slot, int level, uint64_t ix, uint64_t iy, std::vector<Item>& items);
+  void fillChain(uint32_t slot, uint32_t ring, int sector, int chainLevel);
+  NodeFit summarize(uint32_t node, int level);
+  NodeFit summarizeLeaf(SurfaceNode& node, int level) const;
+  NodeFit ringStandIn(const ChainStep& step, int level) const;
+  NodeFit fitChildren(const NodeFit children[4]) const;
+  void setBox(uint32_t node, const ChainStep* step);
+  void setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
+  void tightenLeafPair(SurfaceNode& node, const BezierNet& net) const;
+  void gradeLeafPair(SurfaceNode& node, const BezierNet& net) const;
+  void flattenLeafPair(SurfaceNode& node, const BezierNet& net) const;
+  struct Ancestor {
+    uint32_t node;
+    int level;
+    uint64_t ix, iy;
+    AxisMap u, v;  // the reparameterization of the geometric pair bound (§3a)
+    // The twist-free pair bound's (§3b); none where the node is finer than kDiagonalFloor.
+    std::optional<DiagonalMap> diagonal;
+
+    // A descendant's square [x, x + s] × [y, y + s] in this node's units.
+    void square(int level, uint64_t ix, uint64_t iy, double& x, double& y, double& s) const {
+      const int d = level - this->level;
+      s = std::ldexp(1.0, -d);
+      x = double(ix - (this->ix << d)) * s, y = double(iy - (this->iy << d)) * s;
+    }
+  };
+  void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
+  void gatherAxisSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
+                         AxisMapBuilder& u, AxisMapBuilder& v) const;
+  void gatherGridSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const;
+  DiagonalMap diagonalMap(uint32_t node) const;
+  void leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
+                            const std::vector<Ancestor>& path);
+  void standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path);
+  void gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const;
+  void flattenNodePair(uint32_t index);
+  BezierNet leafNet(const SurfaceNode& node) const;
+  BezierNet netOrStandIn(const SurfaceNode& node, double& r) const;
+
+  void checkpointNow() const {
+    if (checkpoint_) checkpoint_();
+  }
+
+  const PatchSet& patches_;
+  const ControlMesh& mesh_;
+  const std::function<void()>& checkpoint_;
+  SurfaceTree tree_;
+  std::vector<ChainStep> chainSteps_;  // EV quadrants being built: node index → step
+  std::vector<int32_t> chainOf_;
+
+  // While building: each node's exact corner values, and the direct pair bounds and side bows
+  // gathered leaf by leaf (docs/ADAPTIVE.md §3).
+  std::vector<std::array<Vec3d, 4>> corners_;
+  std::vector<double> pair_, pairReparam_;
+  std::vector<std::array<double, 4>> bow_, bowReparam_;
+  std::vector<double> pairDiagonal_;
+  std::vector<std::array<double, 4>> bowDiagonal_;
+  double floor_ = 0;
+  // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
+  // O(ring size) to compute, so computed once (a valence-n ring has n sectors): the stand-in
+  // bound, the EV's limit point (relative to the ring's centre) and the ring's box.
+  struct RingLevel {
+    double bound;
+    Vec3d limit;
+    float boxMin[3], boxMax[3];
+  };
+  std::vector<std::vector<RingLevel>> ringLevels_;
+  RingLevel ringLevel(size_t r, const float* ring, int level) const;
+};
+
+}  // namespace tessera::surface_tree_building
