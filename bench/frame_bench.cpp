@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "gpu/render_engine/frame_engine.h"
 #include "gpu/render_engine/view_sweep.h"
 

@@ -10,9 +10,10 @@
 #include <memory>
 #include <string>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/glb_output.h"
 #include "core/mesh/obj_reader.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera::bench {
 namespace {

@@ -22,7 +22,7 @@ namespace {
 namespace Osd = OpenSubdiv::Osd;
 
 // Far's vertices of the CER refined set at every level, in CER order, chained from the base EV
-// and its first spoke the way tests/support/far_reference.cpp's farRingLevel does (which returns
+// and its first spoke the way reference/far_reference.cpp's farRingLevel does (which returns
 // positions; the stencils need the vertex indices themselves).
 std::vector<std::vector<Index>> refinedSetVertices(const Far::TopologyRefiner& refiner,
                                                    const cer::RingShape& shape, int depth) {

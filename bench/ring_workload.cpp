@@ -5,7 +5,7 @@
 #include <cstring>
 #include <new>
 
-#include "tests/support/ring_meshes.h"
+#include "reference/ring_meshes.h"
 
 namespace tessera::bench {
 

@@ -1,6 +1,6 @@
 // The workload of the paper's Table 1 (§4.3): 100K extraordinary rings of one valence, refined
 // to depth 4, 5 or 6, every level's 12n+1 refined points written to memory. The rings are a few
-// dozen distinct jittered rings (tests/support/ring_meshes.h) tiled to the full count, so every
+// dozen distinct jittered rings (reference/ring_meshes.h) tiled to the full count, so every
 // ring is read from and written to main memory as in a real model while setup stays cheap.
 #pragma once
 

@@ -1,6 +1,5 @@
 #include "bench/tess_common.h"
 
-
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
@@ -9,6 +8,7 @@
 #include <mutex>
 #include <new>
 
+#include "core/pipeline/preprocessing.h"
 #include "bench/write_floor.h"
 #include "core/mesh/obj_reader.h"
 

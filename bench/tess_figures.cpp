@@ -10,7 +10,7 @@
 #include "bench/tess_osd.h"
 #include "core/bounds/depth_tables.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/bfr_reference.h"
+#include "reference/bfr_reference.h"
 
 namespace tessera::bench {
 namespace {

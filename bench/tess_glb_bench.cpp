@@ -44,10 +44,10 @@
 #include "core/topology/far_topology.h"
 #include "core/output/glb_writer.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/models.h"
+#include "reference/limit_distance.h"
+#include "reference/models.h"
 
 namespace tessera::bench {
 namespace {

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/pipeline/preprocessing.h"
 #include "client/camera_flags.h"
 #include "client/commands.h"
 #include "core/base/error.h"

@@ -17,14 +17,14 @@
 #include "core/stitching/adaptive_tessellator.h"
 #include "core/uniform/domain_keys.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/surface/surface_evaluation.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/bfr_reference.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/limit_projection.h"
-#include "tests/support/triangle_bvh.h"
-#include "tests/support/models.h"
+#include "reference/bfr_reference.h"
+#include "reference/limit_distance.h"
+#include "reference/limit_projection.h"
+#include "reference/triangle_bvh.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {
@@ -42,7 +42,7 @@ double degreesBetween(const Vec3d& a, const Vec3d& b) {
 }
 
 // The benchmark's models (bench/tess_glb_bench.cpp) at its three tolerances: the two-sided distance
-// to the exact limit surface, measured by projection (tests/support/limit_distance.h, a code path
+// to the exact limit surface, measured by projection (reference/limit_distance.h, a code path
 // of its own), is within ε up to the reference's own accuracy (Bfr at level 10 agrees with level
 // 12 within 3e-6 of the diagonal on these models).
 TEST(AdaptiveTessellation, MeasuredTwoSidedDistanceIsWithinTolerance) {

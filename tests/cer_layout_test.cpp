@@ -7,7 +7,7 @@
 
 #include "core/rings/cer_layout.h"
 #include "core/topology/far_topology.h"
-#include "tests/support/ring_meshes.h"
+#include "reference/ring_meshes.h"
 
 namespace tessera {
 namespace {

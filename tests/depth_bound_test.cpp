@@ -11,10 +11,10 @@
 #include "core/rings/fas.h"
 #include "core/rings/innermost_patch.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
-#include "tests/support/bfr_reference.h"
-#include "tests/support/models.h"
-#include "tests/support/ring_meshes.h"
+#include "core/pipeline/preprocessing.h"
+#include "reference/bfr_reference.h"
+#include "reference/models.h"
+#include "reference/ring_meshes.h"
 
 namespace tessera {
 namespace {

@@ -16,12 +16,12 @@
 #include "core/output/glb_writer.h"
 #include "core/mesh/mesh_codec.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/mesh/subdivision_rules.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/bfr_reference.h"
+#include "reference/bfr_reference.h"
 #include "tests/support/gltf_validator.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

@@ -14,11 +14,11 @@
 #include "core/output/glb_writer.h"
 #include "core/mesh/mesh_codec.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/limit_surface.h"
-#include "tests/support/models.h"
+#include "reference/limit_distance.h"
+#include "reference/limit_surface.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {
@@ -59,7 +59,7 @@ std::string transformedObj(const std::string& path, double scale, const Vec3d& o
 TessellationResult tessellateAt(const ControlMesh& mesh, double relative, std::optional<Camera> camera = {}) {
   TessellationOptions options;
   options.accuracy = Accuracy::relative(relative);
-  options.recordParameters = true;  // the measure's parametric seeds (tests/support/limit_distance.h)
+  options.recordParameters = true;  // the measure's parametric seeds (reference/limit_distance.h)
   if (camera) options.camera = camera, options.accuracy = Accuracy::pixel(0.5);
   return tessellate(buildPatchSet(mesh), mesh, options);
 }

@@ -7,8 +7,8 @@
 #include <random>
 
 #include "core/base/error.h"
-#include "tests/support/far_reference.h"
-#include "tests/support/ring_meshes.h"
+#include "reference/far_reference.h"
+#include "reference/ring_meshes.h"
 
 namespace tessera {
 namespace {

@@ -13,11 +13,11 @@
 #include "core/surface/adaptive_surface.h"
 #include "core/math/bicubic.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/surface/surface_evaluation.h"
-#include "tests/support/limit_projection.h"
-#include "tests/support/models.h"
-#include "tests/support/triangle_bvh.h"
+#include "reference/limit_projection.h"
+#include "reference/models.h"
+#include "reference/triangle_bvh.h"
 
 namespace tessera {
 namespace {

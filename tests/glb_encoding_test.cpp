@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <tuple>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/base/error.h"
 #include "core/pipeline/glb_output.h"
 #include "core/mesh/mesh_codec.h"
@@ -17,8 +18,8 @@
 #include "core/base/sha256.h"
 #include "core/base/version.h"
 #include "tests/support/gltf_validator.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/models.h"
+#include "reference/limit_distance.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

@@ -1,4 +1,4 @@
-// The measured distance to the limit surface (tests/support/limit_distance.h) and what it is built
+// The measured distance to the limit surface (reference/limit_distance.h) and what it is built
 // from, checked against expectations derived by hand: O(1/R²) convergence of a uniform
 // tessellation, a vertex moved by a known offset, a planar limit surface measured at zero, and the
 // AABB tree against brute force.
@@ -12,11 +12,11 @@
 #include <gtest/gtest.h>
 
 #include "core/mesh/obj_reader.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/limit_projection.h"
-#include "tests/support/models.h"
-#include "tests/support/triangle_bvh.h"
-#include "tests/support/uniform_tessellation.h"
+#include "reference/limit_distance.h"
+#include "reference/limit_projection.h"
+#include "reference/models.h"
+#include "reference/triangle_bvh.h"
+#include "reference/uniform_tessellation.h"
 
 namespace tessera {
 namespace {

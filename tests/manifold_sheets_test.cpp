@@ -12,10 +12,10 @@
 
 #include "core/base/error.h"
 #include "core/mesh/obj_reader.h"
-#include "tests/support/bfr_reference.h"
-#include "tests/support/far_patch_reference.h"
+#include "reference/bfr_reference.h"
+#include "reference/far_patch_reference.h"
 #include "tests/support/model_stats.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

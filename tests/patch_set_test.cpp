@@ -9,11 +9,11 @@
 #include "core/math/bicubic.h"
 #include "core/base/error.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/rings/ring_refinement.h"
-#include "tests/support/bfr_reference.h"
-#include "tests/support/far_patch_reference.h"
-#include "tests/support/models.h"
+#include "reference/bfr_reference.h"
+#include "reference/far_patch_reference.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

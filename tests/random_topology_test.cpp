@@ -1,4 +1,4 @@
-// Random control meshes (tests/support/random_mesh.h: folds, collapsed edges, non-manifold edges
+// Random control meshes (reference/random_mesh.h: folds, collapsed edges, non-manifold edges
 // and vertices, holes, boundary rules, a crease): every mesh Tessera accepts is tessellated within
 // ε of OpenSubdiv's limit surface, two-sided, at 1e-2 and 1e-3 of the diagonal. The reference is
 // Far's patch table of the input (Debian's Bfr 3.5.0 mis-evaluates, and once crashes on, such
@@ -11,9 +11,9 @@
 #include <limits>
 #include <vector>
 
-#include "tests/support/limit_distance.h"
-#include "tests/support/limit_surface.h"
-#include "tests/support/random_mesh.h"
+#include "reference/limit_distance.h"
+#include "reference/limit_surface.h"
+#include "reference/random_mesh.h"
 
 namespace tessera {
 namespace {

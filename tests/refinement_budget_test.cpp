@@ -10,7 +10,7 @@
 #include "core/topology/far_topology.h"
 #include "core/mesh/obj_reader.h"
 #include "core/topology/refinement_budget.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

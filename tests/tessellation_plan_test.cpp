@@ -1,5 +1,6 @@
 // Planning into a reused plan: the pieces must be exactly those of a fresh plan, whatever the
 // reused plan held before.
+#include "core/pipeline/preprocessing.h"
 #include "core/uniform/tessellation_plan.h"
 
 #include <gtest/gtest.h>
@@ -10,7 +11,7 @@
 #include <vector>
 
 #include "core/mesh/obj_reader.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

@@ -1,7 +1,7 @@
 // Error-bounded, watertight tessellation against OpenSubdiv's exact limit surface.
 //
 // Distance on the adaptive path: measured two-sided by projection onto the limit surface
-// (tests/support/limit_distance.h), as the bound it proves is geometric.
+// (reference/limit_distance.h), as the bound it proves is geometric.
 // On the paper's single-phase path: every triangle lies in one plan piece, so for sample points q
 // of a triangle the mesh point L(q) and the surface point x(q) correspond; max ‖L(q) − x(q)‖
 // bounds both one-sided distances (mesh → surface, and surface → mesh, since the triangles tile
@@ -23,15 +23,15 @@
 #include "core/base/error.h"
 #include "core/output/glb_writer.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/bfr_reference.h"
-#include "tests/support/far_patch_reference.h"
+#include "reference/bfr_reference.h"
+#include "reference/far_patch_reference.h"
 #include "tests/support/gltf_validator.h"
-#include "tests/support/limit_distance.h"
+#include "reference/limit_distance.h"
 #include "tests/support/mesh_equality.h"
-#include "tests/support/limit_surface.h"
-#include "tests/support/models.h"
+#include "reference/limit_surface.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {
@@ -290,7 +290,7 @@ bool hasBoundary(const ControlMesh& mesh) {
 
 // The adaptive path (η > 0) bounds the geometric distance (docs/ADAPTIVE.md §3a: a tile may be
 // compared with the surface through a reparameterization), so its mesh is measured two-sided by
-// projection (tests/support/limit_distance.h); η = 0 keeps the paper's parametric bound, measured
+// projection (reference/limit_distance.h); η = 0 keeps the paper's parametric bound, measured
 // at the same parameters.
 template <typename Reference>
 void expectWithinToleranceAndWatertight(const std::string& path, const ControlMesh& mesh,

@@ -10,8 +10,8 @@
 #include "core/adaptive/adaptive_plan.h"
 #include "core/surface/adaptive_surface.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
-#include "tests/support/models.h"
+#include "core/pipeline/preprocessing.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

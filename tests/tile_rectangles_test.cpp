@@ -13,8 +13,8 @@
 #include "core/surface/adaptive_surface.h"
 #include "core/stitching/adaptive_tessellator.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
-#include "tests/support/models.h"
+#include "core/pipeline/preprocessing.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

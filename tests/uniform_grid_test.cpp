@@ -4,6 +4,7 @@
 // three shapes of work, and every one must be exercised: N + 1 < 8 (samples
 // gathered across rows by lane permutations; N = 1 stores only 4 of 8 lanes), N + 1 a multiple of
 // 8 (whole vectors), and N + 1 ≥ 8 with a tail (the last vector overlaps the one before it).
+#include "core/pipeline/preprocessing.h"
 #include "core/uniform/uniform_grid.h"
 
 #include <gtest/gtest.h>
@@ -17,7 +18,7 @@
 #include "core/base/error.h"
 #include "core/mesh/obj_reader.h"
 #include "core/uniform/tessellation_plan.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera {
 namespace {

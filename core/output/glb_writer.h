@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/output/position_quantization.h"
-#include "core/uniform/watertight_tessellator.h"
+#include "core/mesh/triangle_mesh.h"
 
 namespace tessera {
 

@@ -7,7 +7,7 @@
 
 #include "core/mesh/control_mesh.h"
 #include "core/topology/limit_uvs.h"
-#include "core/uniform/watertight_tessellator.h"
+#include "core/mesh/triangle_mesh.h"
 
 namespace tessera {
 

@@ -3,6 +3,7 @@
 #include <set>
 #include <utility>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/base/error.h"
 #include "core/mesh/subdivision_rules.h"
 

@@ -6,7 +6,6 @@
 #include <string>
 
 #include "core/base/error.h"
-#include "core/uniform/uniform_levels.h"
 
 namespace tessera {
 namespace {

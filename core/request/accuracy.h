@@ -9,6 +9,9 @@
 
 namespace tessera {
 
+// The finest uniform level a request may ask for (the planner's tables go that far).
+inline constexpr int kMaxUniformLevel = 4096;
+
 struct Accuracy {
   enum class Mode : uint8_t { kAbsolute, kRelative, kPixel, kUniformLevel };
 

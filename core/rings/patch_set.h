@@ -5,12 +5,10 @@
 
 #include <array>
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <vector>
 
 #include "core/rings/cer_layout.h"
-#include "core/mesh/control_mesh.h"
 #include "core/rings/fas_rules.h"
 #include "core/base/vec3.h"
 
@@ -96,27 +94,5 @@ struct PatchSet {
   // The mesh's UVs on the limit surface; null when it has none.
   std::shared_ptr<const LimitUvs> uvs;
 };
-
-// What building a patch set may cost. `checkpoint`, when given, is called between stages and for
-// every ring and root (well under a second apart on any mesh the limits admit) and may throw to
-// abandon the work: how a server stops preprocessing for a call that was cancelled.
-// `maxRefinedVertices` (0: no limit) bounds OpenSubdiv's adaptive refinement, the part that grows
-// with semi-sharp creases (core/topology/refinement_budget.h): a mesh over it is refused before the memory
-// is taken. `beforeRefining`, when given, gets that estimate of the refined vertices before the
-// refinement is made, and `afterRefining` the exact count once it is, before the patches are
-// built (either may throw): how a server reserves memory for the job as it learns its size
-// (core/pipeline/memory_estimates.h).
-struct PreprocessingOptions {
-  std::function<void()> checkpoint;
-  int64_t maxRefinedVertices = 0;
-  std::function<void(int64_t refinedVertices)> beforeRefining = {};
-  std::function<void(int64_t refinedVertices)> afterRefining = {};
-};
-
-// Reduces a validated control mesh to regular patches and rings (through OpenSubdiv Far).
-// A non-manifold mesh is refined as its manifold sheets (core/mesh/manifold_sheets.h). Throws
-// TesseraError for unsupported input (features that cannot be reduced to the canonical pieces)
-// and for a refinement over the options' limit.
-PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options = {});
 
 }  // namespace tessera

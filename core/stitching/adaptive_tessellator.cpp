@@ -15,12 +15,6 @@
 
 namespace tessera {
 
-size_t AdaptiveSurface::bytes() const {
-  auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
-  return tree.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
-         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + lines.bytes();
-}
-
 namespace {
 
 // Where vertices [first, last) lie (face, sub-face, (u, v)): tests and tools read it, a GLB does

@@ -10,7 +10,7 @@
 #include "core/surface/adaptive_surface.h"
 #include "core/stitching/tile_stitching.h"
 #include "core/stitching/vertex_evaluation.h"
-#include "core/uniform/watertight_tessellator.h"
+#include "core/mesh/triangle_mesh.h"
 
 namespace tessera {
 

@@ -1,11 +1,18 @@
 // What the adaptive tessellation caches per mesh beside its patch set: the surface tree and the
-// seams between roots (built once by buildPatchSet).
+// seams between roots, built once when the mesh is preprocessed (core/pipeline/preprocessing.h).
 #pragma once
 
+#include <cstddef>
+#include <functional>
+#include <memory>
+
+#include "core/mesh/control_mesh.h"
+#include "core/rings/patch_set.h"
+#include "core/surface/root_seams.h"
 #include "core/surface/seam_lines.h"
 #include "core/surface/seam_topology.h"
 #include "core/surface/surface_tree.h"
-#include "core/adaptive/tile_neighbors.h"
+#include "core/topology/refinement_input.h"
 
 namespace tessera {
 
@@ -17,5 +24,12 @@ struct AdaptiveSurface {
 
   size_t bytes() const;
 };
+
+// The surface tree over `patches` (reduced from `input`'s sheets of `mesh`) and the seams between
+// its roots. `checkpoint`, when given, is called for every root and between the stages, and may
+// throw to abandon the work.
+std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const RefinementInput& input,
+                                                            const ControlMesh& mesh,
+                                                            const std::function<void()>& checkpoint);
 
 }  // namespace tessera

@@ -16,6 +16,7 @@
 
 #include "core/math/bezier_net.h"
 #include "core/bounds/edge_curvature.h"
+#include "core/mesh/control_mesh.h"
 #include "core/rings/patch_set.h"
 
 namespace tessera {

@@ -2,6 +2,8 @@
 // isolates every irregular feature; its patch table then names the regular B-spline patches,
 // and the faces left irregular at the last level (its end caps) are exactly the inner faces of
 // extraordinary rings, which we gather in CER order with the lattice walker.
+#include "core/topology/patch_builder.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -12,13 +14,11 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/ptexIndices.h>
 
-#include "core/surface/adaptive_surface.h"
 #include "core/base/error.h"
 #include "core/topology/limit_uvs.h"
 #include "core/topology/far_topology.h"
 #include "core/topology/ring_extraction.h"
 #include "core/topology/refinement_input.h"
-#include "core/rings/patch_set.h"
 #include "core/topology/refinement_budget.h"
 
 namespace tessera {
@@ -114,8 +114,9 @@ bool isIrregularVertex(const Far::TopologyLevel& level, Index v) {
 
 class PatchSetBuilder {
  public:
-  PatchSetBuilder(const ControlMesh& mesh, const PreprocessingOptions& options)
+  PatchSetBuilder(const ControlMesh& mesh, const RefinementInput& input, const PreprocessingOptions& options)
       : mesh_(mesh),
+        input_(input),
         checkpoint_(options.checkpoint),
         maxRefinedVertices_(options.maxRefinedVertices),
         beforeRefining_(options.beforeRefining),
@@ -134,7 +135,7 @@ class PatchSetBuilder {
   }
 
   const ControlMesh& mesh_;
-  std::unique_ptr<RefinementInput> input_;  // what OpenSubdiv refines
+  const RefinementInput& input_;  // what OpenSubdiv refines
   const std::function<void()>& checkpoint_;
   const int64_t maxRefinedVertices_;
   const std::function<void(int64_t)> beforeRefining_;
@@ -252,7 +253,7 @@ void PatchSetBuilder::refineAndGather(const ControlMesh& far, int isolation) {
   ptex_ = ptexFaces(*refiner_);
   endCaps_.assign(refiner_->GetMaxLevel() + 1, {});
   std::vector<uint8_t> hole(far.faceCount(), 0);
-  for (int f : input_->sheets().holes) hole[f] = 1;
+  for (int f : input_.sheets().holes) hole[f] = 1;
 
   for (int array = 0; array < table->GetNumPatchArrays(); ++array) {
     auto type = table->GetPatchArrayDescriptor(array).GetType();
@@ -273,15 +274,13 @@ void PatchSetBuilder::refineAndGather(const ControlMesh& far, int isolation) {
 }
 
 PatchSet PatchSetBuilder::build() {
-  validateControlMesh(mesh_);
-  input_ = std::make_unique<RefinementInput>(mesh_);
-  const ControlMesh& sheets = input_->sheets();
+  const ControlMesh& sheets = input_.sheets();
   checkpointNow();
   const int isolation = isolationLevelFor(sheets);
   if (maxRefinedVertices_ > 0 || beforeRefining_) {
     // Without a limit the estimate is still wanted: one far beyond any machine's memory.
     const int64_t limit = maxRefinedVertices_ > 0 ? maxRefinedVertices_ : int64_t(1) << 50;
-    const int64_t estimate = requireRefinementWithin(input_->unholed(), limit, checkpoint_);
+    const int64_t estimate = requireRefinementWithin(input_.unholed(), limit, checkpoint_);
     if (beforeRefining_) beforeRefining_(estimate);
   }
   try {
@@ -295,13 +294,13 @@ PatchSet PatchSetBuilder::build() {
     // neighbours' patches (catmark_hole_test1 at 1e-3: 29 % more triangles).
     result_.regular = {};
     result_.rings = {};
-    refineAndGather(input_->unholed(), isolation);
+    refineAndGather(input_.unholed(), isolation);
   }
 
   result_.stats.isolationLevel = isolation;
   result_.stats.holes = static_cast<int>(mesh_.holes.size());
-  result_.stats.nonManifoldEdges = input_->cut().nonManifoldEdges;
-  result_.stats.nonManifoldVertices = input_->cut().nonManifoldVertices;
+  result_.stats.nonManifoldEdges = input_.cut().nonManifoldEdges;
+  result_.stats.nonManifoldVertices = input_.cut().nonManifoldVertices;
   std::set<int> refinedBaseFaces;
   for (size_t p = 0; p < result_.regular.size(); ++p) {
     if (result_.regular.levels[p] > 0) refinedBaseFaces.insert(result_.regular.domains[p].baseFace);
@@ -316,21 +315,14 @@ PatchSet PatchSetBuilder::build() {
     hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
   }
   result_.boundsMin = lo, result_.boundsMax = hi;
-  auto surface = std::make_shared<AdaptiveSurface>();
-  surface->tree = buildSurfaceTree(result_, sheets, checkpoint_);
-  checkpointNow();
-  surface->seams = SeamTopology(input_->cut().seamsOf(mesh_));
-  surface->rootSeams = RootSeams(surface->tree, surface->seams);
-  surface->lines = SeamLines(surface->tree, surface->seams, mesh_.vertexCount());
-  result_.adaptive = std::move(surface);
   if (mesh_.hasUvs()) result_.uvs = std::make_shared<const LimitUvs>(mesh_);
   return std::move(result_);
 }
 
 }  // namespace
 
-PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options) {
-  return PatchSetBuilder(mesh, options).build();
+PatchSet reduceToPatches(const ControlMesh& mesh, const RefinementInput& input, const PreprocessingOptions& options) {
+  return PatchSetBuilder(mesh, input, options).build();
 }
 
 }  // namespace tessera

@@ -8,8 +8,6 @@
 
 namespace tessera {
 
-inline constexpr int kMaxUniformLevel = 4096;
-
 // FAS depth for a ring taken at Far level `ringLevel`.
 inline int uniformRingDepth(int p, int ringLevel) {
   const int target = int(std::ceil(std::log2(double(p))));

@@ -1,5 +1,6 @@
 #include "server/meshes/patch_set_cache.h"
 
+#include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
 #include "core/pipeline/memory_estimates.h"
 

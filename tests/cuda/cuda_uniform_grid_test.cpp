@@ -1,6 +1,7 @@
 // The uniform grid on a CUDA device against the CPU's evaluateUniformGrid, bit for bit (both run
 // core/math/grid_sample.h without multiply-add contraction). Needs a CUDA device; without one the
 // tests are skipped with CUDA's reason.
+#include "core/pipeline/preprocessing.h"
 #include "gpu/cuda/cuda_uniform_grid.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +13,7 @@
 #include "core/mesh/obj_reader.h"
 #include "gpu/cuda/device_info.h"
 #include "tests/cuda/grid_cases.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera::cuda {
 namespace {

@@ -6,9 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
 #include "core/uniform/uniform_grid.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera::cuda::testing {
 

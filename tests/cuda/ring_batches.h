@@ -1,4 +1,4 @@
-// Batches of jittered rings (tests/support/ring_meshes.h) and their CPU reference, in the
+// Batches of jittered rings (reference/ring_meshes.h) and their CPU reference, in the
 // layout of core/rings/fas.h refineRing: ring after ring, each its levels one after another.
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/rings/fas.h"
-#include "tests/support/ring_meshes.h"
+#include "reference/ring_meshes.h"
 
 namespace tessera::testing {
 

@@ -11,7 +11,7 @@
 #include "core/rings/patch_set.h"
 #include "core/pipeline/tessellate.h"
 #include "core/stitching/vertex_evaluation.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera::cuda::testing {
 

@@ -2,6 +2,7 @@
 // bit for bit (both run core/surface/surface_point.h without multiply-add contraction): every supported
 // OpenSubdiv shape at 1e-2 and the paper's characters at 1e-3. Needs a CUDA device; without one
 // the tests are skipped with CUDA's reason.
+#include "core/pipeline/preprocessing.h"
 #include "gpu/cuda/cuda_surface.h"
 
 #include <gtest/gtest.h>

@@ -11,6 +11,7 @@
 #include <numeric>
 #include <random>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
 #include "gpu/cuda/surface_upload.h"
 #include "gpu/cuda/vertex_threads.h"

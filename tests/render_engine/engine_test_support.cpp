@@ -8,8 +8,9 @@
 #include <map>
 #include <memory>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera::testing {
 

@@ -1,5 +1,5 @@
 // An independent reference for frames of a limit surface: OpenSubdiv Bfr (exact limit
-// evaluation, approximation levels raised to 10 as in tests/support/bfr_reference.h) on a
+// evaluation, approximation levels raised to 10 as in reference/bfr_reference.h) on a
 // uniform G×G grid of every base face, the same G on every face so that neighbours meet without
 // T-junctions. Each grid is also sampled at its edge and diagonal midpoints (a 2G grid), which
 // measures how far the reference's own triangles are from the surface.

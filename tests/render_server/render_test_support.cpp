@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
 
 namespace tessera::test {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/uniform/watertight_tessellator.h"
+#include "core/mesh/triangle_mesh.h"
 
 namespace tessera::testing {
 

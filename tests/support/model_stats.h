@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 namespace tessera::testing {
 

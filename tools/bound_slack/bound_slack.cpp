@@ -27,12 +27,13 @@
 #include <cstdlib>
 #include <vector>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
 #include "core/stitching/adaptive_tessellator.h"
 #include "core/bounds/edge_curvature.h"
 #include "core/mesh/obj_reader.h"
 #include "core/surface/surface_evaluation.h"
-#include "tests/support/triangle_bvh.h"  // closestPointOnTriangle
+#include "reference/triangle_bvh.h"  // closestPointOnTriangle
 
 namespace tessera {
 namespace {

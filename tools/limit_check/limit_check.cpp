@@ -5,7 +5,7 @@
 //
 //   tessera-limit-check --cage CAGE.obj --mesh MESH.obj [--uv-interpolation all|none|...]
 //
-// Prints one JSON object: the two-sided distance (tests/support/limit_distance.h) in object units
+// Prints one JSON object: the two-sided distance (reference/limit_distance.h) in object units
 // and relative to the cage's diagonal; and, when both files have UVs, the largest difference
 // between a corner's UV and Bfr's at the limit point its vertex projects to, over corners whose
 // vertex projects inside a face (away from its edges by 2 %, where a UV seam could make either
@@ -18,10 +18,10 @@
 
 #include "core/mesh/obj_reader.h"
 #include "core/mesh/subdivision_rules.h"
-#include "tests/support/bfr_reference.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/limit_projection.h"
-#include "tests/support/limit_surface.h"
+#include "reference/bfr_reference.h"
+#include "reference/limit_distance.h"
+#include "reference/limit_projection.h"
+#include "reference/limit_surface.h"
 
 using namespace tessera;
 

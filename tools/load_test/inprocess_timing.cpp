@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/pipeline/preprocessing.h"
 #include "core/base/error.h"
 #include "core/output/glb_writer.h"
 #include "core/mesh/obj_reader.h"

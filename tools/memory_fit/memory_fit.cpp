@@ -15,7 +15,7 @@
 #include "core/output/glb_writer.h"
 #include "core/pipeline/memory_estimates.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 
 namespace {

@@ -1,8 +1,8 @@
 // tessera-oracle-rates: the "oracle uniform rate" that Tessera's adaptive tessellation is compared
 // with. For each model and tolerance eps (relative to the control mesh's bounding-box diagonal),
 // the smallest rate R at which OpenSubdiv's Bfr::Tessellation, uniform rate R on every face and
-// watertight (tests/support/uniform_tessellation.h), has a measured two-sided distance to the
-// exact limit surface (tests/support/limit_distance.h) of at most eps·diagonal.
+// watertight (reference/uniform_tessellation.h), has a measured two-sided distance to the
+// exact limit surface (reference/limit_distance.h) of at most eps·diagonal.
 //
 // The error falls roughly like 1/R², so R = 1, 2, 4, ... is measured until one is within eps, then
 // the rates between the last failing and the first passing one are bisected, assuming the error
@@ -40,8 +40,8 @@
 #include <tbb/global_control.h>
 
 #include "core/mesh/obj_reader.h"
-#include "tests/support/limit_distance.h"
-#include "tests/support/uniform_tessellation.h"
+#include "reference/limit_distance.h"
+#include "reference/uniform_tessellation.h"
 
 namespace tessera {
 namespace {
@@ -192,7 +192,7 @@ void writeHeader(std::ostream& out, const std::string& command, int threads) {
          "rate R on every\n"
          "# face (watertight, quads as two triangles) is within eps * bounding-box diagonal of the "
          "exact limit\n"
-         "# surface, measured two-sided (tests/support/limit_distance.h): mesh->limit from K x K "
+         "# surface, measured two-sided (reference/limit_distance.h): mesh->limit from K x K "
          "barycentric\n"
          "# samples per triangle projected onto the limit surface, limit->mesh from an S x S grid "
          "per face domain,\n"

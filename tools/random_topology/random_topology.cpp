@@ -1,4 +1,4 @@
-// Random control meshes (tests/support/random_mesh.h) over a range of seeds at one tolerance:
+// Random control meshes (reference/random_mesh.h) over a range of seeds at one tolerance:
 // Tessera's mesh measured two-sided against Far's limit surface of the input, as
 // RandomTopology.* does for its first seeds. Prints each mesh over ε and a summary; the figures
 // of docs/NONMANIFOLD.md ("Beyond the shared shapes") come from it.
@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "tests/support/random_mesh.h"
+#include "reference/random_mesh.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Random topologies against Far's limit surface"};

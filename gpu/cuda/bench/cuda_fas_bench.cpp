@@ -23,7 +23,7 @@
 #include "core/rings/fas.h"
 #include "gpu/cuda/cuda_fas.h"
 #include "gpu/cuda/device_info.h"
-#include "tests/support/ring_meshes.h"
+#include "reference/ring_meshes.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "tests/support/ring_meshes.h"
+#include "reference/ring_meshes.h"
 
 #include <cmath>
 #include <random>

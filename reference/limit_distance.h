@@ -4,7 +4,7 @@
 //
 //  - mesh -> limit: every triangle is sampled at the barycentric points (i, j, k)/K, i + j + k = K,
 //    corners excluded; each sample is projected onto the limit surface by Gauss-Newton inside a
-//    face domain (tests/support/limit_projection.h) from several seeds, the triangle's own
+//    face domain (reference/limit_projection.h) from several seeds, the triangle's own
 //    parametric point when its parameters agree and the nearest limit samples of a kd-tree in up
 //    to `spatialSeeds` domains (and from every domain for a sample those leave farther than
 //    `everyDomainBeyond`); its distance is the smallest reached. The maximum over samples.
@@ -22,8 +22,8 @@
 #include <limits>
 #include <span>
 
-#include "core/uniform/watertight_tessellator.h"
-#include "tests/support/limit_surface.h"
+#include "core/mesh/triangle_mesh.h"
+#include "reference/limit_surface.h"
 
 namespace tessera::testing {
 

@@ -11,7 +11,7 @@
 
 #include "core/mesh/control_mesh.h"
 #include "core/pipeline/tessellate.h"
-#include "tests/support/limit_distance.h"
+#include "reference/limit_distance.h"
 
 namespace tessera::testing {
 

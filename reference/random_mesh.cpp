@@ -1,10 +1,10 @@
-#include "tests/support/random_mesh.h"
+#include "reference/random_mesh.h"
 
 #include <random>
 
 #include "core/base/error.h"
-#include "core/rings/patch_set.h"
-#include "tests/support/limit_surface.h"
+#include "core/pipeline/preprocessing.h"
+#include "reference/limit_surface.h"
 
 namespace tessera::testing {
 

@@ -1,4 +1,4 @@
-#include "tests/support/uniform_tessellation.h"
+#include "reference/uniform_tessellation.h"
 
 #include <map>
 #include <stdexcept>

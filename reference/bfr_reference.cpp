@@ -1,4 +1,4 @@
-#include "tests/support/bfr_reference.h"
+#include "reference/bfr_reference.h"
 
 namespace tessera::testing {
 

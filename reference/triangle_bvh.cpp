@@ -1,4 +1,4 @@
-#include "tests/support/triangle_bvh.h"
+#include "reference/triangle_bvh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // The exact Catmull-Clark limit surface of a control mesh as a set of parameter domains, prepared
 // once and then evaluated from any number of threads: the reference that measured distances
-// (tests/support/limit_distance.h) and oracle tessellations (tests/support/uniform_tessellation.h)
+// (reference/limit_distance.h) and oracle tessellations (reference/uniform_tessellation.h)
 // are taken against.
 //
 // Domains are BfrReference::evaluateFace's: a quad is one domain (u, v) in [0,1]^2 (sub-face -1),
@@ -21,7 +21,7 @@
 
 #include "core/mesh/control_mesh.h"
 #include "core/topology/far_topology.h"
-#include "tests/support/far_patch_reference.h"
+#include "reference/far_patch_reference.h"
 
 namespace tessera::testing {
 

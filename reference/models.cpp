@@ -1,4 +1,4 @@
-#include "tests/support/models.h"
+#include "reference/models.h"
 
 #include <algorithm>
 #include <cstdlib>

@@ -1,4 +1,4 @@
-#include "tests/support/limit_distance.h"
+#include "reference/limit_distance.h"
 
 #include <algorithm>
 #include <array>
@@ -10,8 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
-#include "tests/support/limit_projection.h"
-#include "tests/support/triangle_bvh.h"
+#include "reference/limit_projection.h"
+#include "reference/triangle_bvh.h"
 
 namespace tessera::testing {
 

@@ -1,4 +1,4 @@
-#include "tests/support/far_patch_reference.h"
+#include "reference/far_patch_reference.h"
 
 #include <opensubdiv/far/patchTableFactory.h>
 

@@ -1,4 +1,4 @@
-#include "tests/support/limit_surface.h"
+#include "reference/limit_surface.h"
 
 #include <tbb/parallel_for.h>
 

@@ -1,4 +1,4 @@
-#include "tests/support/far_reference.h"
+#include "reference/far_reference.h"
 
 #include <limits>
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "tests/support/limit_surface.h"
+#include "reference/limit_surface.h"
 
 namespace tessera::testing {
 

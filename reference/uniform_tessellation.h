@@ -19,8 +19,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "tests/support/limit_distance.h"
-#include "tests/support/limit_surface.h"
+#include "reference/limit_distance.h"
+#include "reference/limit_surface.h"
 
 namespace tessera::testing {
 

@@ -1,4 +1,4 @@
-#include "tests/support/limit_projection.h"
+#include "reference/limit_projection.h"
 
 #include <algorithm>
 #include <cmath>

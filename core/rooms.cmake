@@ -1,0 +1,97 @@
+# Core's rooms (docs/ARCHITECTURE.md): each folder under core/ is a library target that names the
+# rooms it uses, declared lowest first, so the rooms cannot form a cycle. The configure stops
+#  - when a file of a room includes core/<other>/ and the room does not use <other>, directly or
+#    through the rooms it uses (an include pointing up, or sideways without a declared reason);
+#  - when a file outside a room includes a header that room keeps to itself (INTERNAL); tests may,
+#    since they test the room from inside.
+# tests/rooms/ holds projects that break each rule; ctest configures them and expects the refusal.
+
+# tessera_room(NAME [USES ROOM...] [INTERNAL HEADER...]): the target tessera_NAME over NAME/*.cpp
+# (an interface target when the room is headers only).
+function(tessera_room name)
+  cmake_parse_arguments(ROOM "" "" "USES;INTERNAL" ${ARGN})
+  set(dir ${CMAKE_CURRENT_SOURCE_DIR}/${name})
+  file(GLOB sources CONFIGURE_DEPENDS ${dir}/*.cpp)
+  file(GLOB files CONFIGURE_DEPENDS ${dir}/*.h ${dir}/*.cpp ${dir}/*.inc)
+  set(reach ${name})
+  foreach(use IN LISTS ROOM_USES)
+    get_property(declared GLOBAL PROPERTY TESSERA_ROOM_REACH_${use} SET)
+    if(NOT declared)
+      message(FATAL_ERROR "room ${name} uses ${use}, which is not declared before it")
+    endif()
+    get_property(useReach GLOBAL PROPERTY TESSERA_ROOM_REACH_${use})
+    list(APPEND reach ${useReach})
+  endforeach()
+  list(REMOVE_DUPLICATES reach)
+  set_property(GLOBAL PROPERTY TESSERA_ROOM_REACH_${name} ${reach})
+  set_property(GLOBAL PROPERTY TESSERA_ROOM_INTERNAL_${name} ${ROOM_INTERNAL})
+  set_property(GLOBAL APPEND PROPERTY TESSERA_ROOMS ${name})
+  tessera_check_room_includes(${name} "${reach}" "${files}")
+
+  set(target tessera_${name})
+  list(TRANSFORM ROOM_USES PREPEND tessera_ OUTPUT_VARIABLE useTargets)
+  if(sources)
+    add_library(${target} STATIC ${sources})
+    target_link_libraries(${target} PUBLIC ${useTargets})
+    target_include_directories(${target} PUBLIC ${TESSERA_ROOM_INCLUDES})
+  else()
+    add_library(${target} INTERFACE)
+    target_link_libraries(${target} INTERFACE ${useTargets})
+    target_include_directories(${target} INTERFACE ${TESSERA_ROOM_INCLUDES})
+  endif()
+endfunction()
+
+# The rooms a file's `#include "core/ROOM/..."` lines name.
+function(tessera_included_rooms file out)
+  file(STRINGS ${file} lines REGEX "^[ \t]*#[ \t]*include[ \t]+\"core/[a-z0-9_]+/")
+  set(rooms)
+  foreach(line IN LISTS lines)
+    string(REGEX REPLACE ".*\"core/([a-z0-9_]+)/.*" "\\1" room "${line}")
+    list(APPEND rooms ${room})
+  endforeach()
+  set(${out} ${rooms} PARENT_SCOPE)
+endfunction()
+
+function(tessera_check_room_includes name reach files)
+  foreach(file IN LISTS files)
+    tessera_included_rooms(${file} rooms)
+    foreach(room IN LISTS rooms)
+      if(NOT room IN_LIST reach)
+        file(RELATIVE_PATH shown ${CMAKE_CURRENT_SOURCE_DIR} ${file})
+        message(FATAL_ERROR "${shown} includes core/${room}/: room ${name} does not use ${room} "
+                            "(it reaches ${reach}); move the code, or declare the use in tessera_room(${name} ...)")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
+# tessera_check_internal_headers(DIR...): no file under DIR (recursively) nor in another room
+# includes a header some room declared INTERNAL. Call it once every room is declared.
+function(tessera_check_internal_headers)
+  get_property(rooms GLOBAL PROPERTY TESSERA_ROOMS)
+  set(internal)
+  foreach(room IN LISTS rooms)
+    get_property(headers GLOBAL PROPERTY TESSERA_ROOM_INTERNAL_${room})
+    list(TRANSFORM headers PREPEND ${room}/)
+    list(APPEND internal ${headers})
+  endforeach()
+  set(files)
+  foreach(dir IN LISTS ARGN ITEMS ${CMAKE_CURRENT_SOURCE_DIR})
+    file(GLOB_RECURSE found ${dir}/*.h ${dir}/*.cpp ${dir}/*.cu ${dir}/*.cuh)
+    list(APPEND files ${found})
+  endforeach()
+  foreach(file IN LISTS files)
+    file(STRINGS ${file} lines REGEX "^[ \t]*#[ \t]*include[ \t]+\"core/[a-z0-9_]+/")
+    foreach(line IN LISTS lines)
+      string(REGEX REPLACE ".*\"core/([a-z0-9_]+/[a-z0-9_.]+)\".*" "\\1" included "${line}")
+      if(NOT included IN_LIST internal)
+        continue()
+      endif()
+      string(REGEX REPLACE "/.*" "" room ${included})
+      get_filename_component(fileDir ${file} DIRECTORY)
+      if(NOT fileDir STREQUAL ${CMAKE_CURRENT_SOURCE_DIR}/${room})
+        message(FATAL_ERROR "${file} includes core/${included}, which room ${room} keeps to itself")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()

@@ -1,0 +1,23 @@
+#include "core/surface/adaptive_surface.h"
+
+namespace tessera {
+
+size_t AdaptiveSurface::bytes() const {
+  auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  return tree.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
+         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + lines.bytes();
+}
+
+std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const RefinementInput& input,
+                                                            const ControlMesh& mesh,
+                                                            const std::function<void()>& checkpoint) {
+  auto surface = std::make_shared<AdaptiveSurface>();
+  surface->tree = buildSurfaceTree(patches, input.sheets(), checkpoint);
+  if (checkpoint) checkpoint();
+  surface->seams = SeamTopology(input.cut().seamsOf(mesh));
+  surface->rootSeams = RootSeams(surface->tree, surface->seams);
+  surface->lines = SeamLines(surface->tree, surface->seams, mesh.vertexCount());
+  return surface;
+}
+
+}  // namespace tessera

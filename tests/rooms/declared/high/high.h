@@ -1,0 +1,1 @@
+#include "core/low/low.h"

@@ -1,0 +1,1 @@
+// kept to its room
