@@ -127,6 +127,7 @@ class RootTileIndex;  // core/adaptive/tile_neighbors.h
 // of those that fail again with replanSquares.
 using RootTiles = std::vector<std::vector<Tile>>;
 // With `indexes`, each root's tiles indexed there too (tile_neighbors.h), by the core that planned it.
+// Throws TesseraError (kInvalidInput) for bad options (validateTessellationOptions) before any work.
 void planRoots(const SurfaceTree& tree, const PatchSet& patches, const TessellationOptions& options, RootTiles& tiles,
                std::vector<RootTileIndex>* indexes = nullptr);
 

@@ -79,7 +79,6 @@ void forgetParameters(TriangleMesh& mesh) {
 // evaluated (core/output/uv_seams.h).
 TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
                               const TessellationOptions& options) {
-  validateTessellationOptions(options);
   TessellationOptions relative = options;
   if (relative.camera) {
     relative.camera->eye = relative.camera->eye - mesh.origin;

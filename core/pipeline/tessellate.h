@@ -32,8 +32,9 @@ struct TessellationResult {
   TessellationSummary summary;
 };
 
-// `faces` are the base mesh's faces (for naming shared edges). Throws TesseraError for bad
-// options and kLimitExceeded, before building anything, when the triangle budget would be passed.
+// Throws TesseraError for bad options (checked once, by the planner the accuracy goes to:
+// planRoots or planTessellation, before any work) and kLimitExceeded, before building
+// anything, when the triangle budget would be passed.
 TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
                               const TessellationOptions& options);
 

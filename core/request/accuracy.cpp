@@ -61,4 +61,10 @@ void validatePixelsForViewport(double pixels, int width, int height, std::string
   }
 }
 
+void validateEta(double eta, std::string_view where) {
+  if (!std::isfinite(eta) || eta < 0 || eta >= 1) {
+    refuse(where, "must be in [0, 1), 0 for the single-phase baseline (got " + shown(eta) + ")");
+  }
+}
+
 }  // namespace tessera

@@ -27,6 +27,11 @@ struct Accuracy {
 
   bool pixelAccurate() const { return mode == Mode::kPixel; }
   bool uniform() const { return mode == Mode::kUniformLevel; }
+  // ε in model units on a mesh whose bounding-box diagonal is `diagonal` (a relative tolerance is
+  // a fraction of it); 0 for pixels, whose ε depends on the view, and for a level, which has none.
+  double epsilonFor(double diagonal) const {
+    return mode == Mode::kRelative ? tolerance * diagonal : mode == Mode::kAbsolute ? tolerance : 0.0;
+  }
 };
 
 // The checks, each written once; `where` names the field in messages ("relative",
@@ -42,5 +47,7 @@ void validateUniformLevel(int p, std::string_view where);
 void validateAccuracy(const Accuracy& accuracy, std::string_view where);
 // A pixel accuracy no larger than the viewport's larger side (a coarser one is meaningless).
 void validatePixelsForViewport(double pixels, int width, int height, std::string_view where);
+// η, the share of ε for the Bézier approximation (paper §5.1): in [0, 1), 0 the single-phase baseline.
+void validateEta(double eta, std::string_view where);
 
 }  // namespace tessera

@@ -13,9 +13,7 @@ void validateTessellationOptions(const TessellationOptions& o) {
   }
   validateAccuracy(o.accuracy, o.accuracy.uniform() ? "uniform level" : o.accuracy.pixelAccurate() ? "pixel accuracy" : "tolerance");
   if (o.accuracy.uniform()) return;
-  if (!std::isfinite(o.eta) || o.eta < 0 || o.eta >= 1) {
-    throwInvalid("eta must be in [0, 1) (0: single phase), got " + std::to_string(o.eta));
-  }
+  validateEta(o.eta, "eta");
   if (o.maxTriangles <= 0) throwInvalid("the triangle budget must be positive");
   if (o.accuracy.pixelAccurate() != o.camera.has_value()) {
     throwInvalid(o.camera ? "a camera was given without a pixel accuracy to set for it"

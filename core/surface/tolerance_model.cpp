@@ -10,11 +10,8 @@ ToleranceModel::ToleranceModel(const TessellationOptions& options, const PatchSe
   // A uniform level meets no ε: the reserve only adds to its bound (tessellate.cpp).
   const Accuracy& accuracy = options.accuracy;
   reserve_ = accuracy.uniform() ? 0.0 : options.encodingReserve;
-  // A level asks for no ε: the pieces' tolerances are then their approximation bounds alone.
-  const double asked = accuracy.mode == Accuracy::Mode::kRelative ? accuracy.tolerance * diagonal
-                       : accuracy.mode == Accuracy::Mode::kAbsolute ? accuracy.tolerance
-                                                                     : 0.0;
-  epsilon_ = asked - reserve_;
+  // A level asks for no ε (0): the pieces' tolerances are then their approximation bounds alone.
+  epsilon_ = accuracy.epsilonFor(diagonal) - reserve_;
   if (!accuracy.pixelAccurate()) return;
   const Camera& c = *options.camera;
   eye_ = c.eye;

@@ -37,6 +37,7 @@ struct TessellationPlan {
   double tolerance = 0;        // ε in object space (the smallest one in pixel mode)
 };
 
+// Throws TesseraError (kInvalidInput) for bad options (validateTessellationOptions) before any work.
 TessellationPlan planTessellation(const PatchSet& patches, const TessellationOptions& options);
 
 // The same plan written into `plan`, reusing its storage: an application that re-plans every

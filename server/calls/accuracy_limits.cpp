@@ -24,9 +24,8 @@ double toleranceOnMesh(const Accuracy& accuracy, std::string_view field, const M
     throwStatus(grpc::StatusCode::FAILED_PRECONDITION,
                 fmt::format("mesh {} has an empty bounding box, so a tolerance has no scale", metadata.id));
   }
-  const bool relative = accuracy.mode == Accuracy::Mode::kRelative;
-  const double epsilon = relative ? accuracy.tolerance * diagonal : accuracy.tolerance;
-  if (!relative && epsilon > diagonal) {
+  const double epsilon = accuracy.epsilonFor(diagonal);
+  if (accuracy.mode == Accuracy::Mode::kAbsolute && epsilon > diagonal) {
     throwInvalidArgument(
         fmt::format("{}: {} is larger than the mesh's bounding-box diagonal ({})", field, epsilon, diagonal));
   }

@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
-
 #include "server/calls/camera_request.h"
 #include "server/calls/status_error.h"
 
@@ -31,44 +29,53 @@ double checkPixelAccuracy(const v1::PixelTolerance& pixel, const Camera& camera,
   return accuracy;
 }
 
-void checkTolerance(const v1::TessellateRequest& request, const TessellationLimits& limits) {
+// The accuracy as asked (a tolerance still absolute or relative: it waits for the mesh), with the
+// camera a pixel accuracy is for. A level decides alone, whatever tolerance came with it
+// (checked all the same).
+void checkAccuracy(const v1::TessellateRequest& request, const TessellationLimits& limits, TessellationJob& job) {
   switch (request.tolerance_case()) {
     case v1::TessellateRequest::kAbsolute:
-      return checkWithCore([&] { validateTolerance(request.absolute(), false, "absolute"); });
+      checkWithCore([&] { validateTolerance(request.absolute(), false, "absolute"); });
+      job.accuracy = Accuracy::absolute(request.absolute());
+      break;
     case v1::TessellateRequest::kRelative:
-      return checkWithCore([&] { validateTolerance(request.relative(), true, "relative"); });
-    case v1::TessellateRequest::kPixel: {
-      Camera camera = checkCamera(request.pixel(), limits);
-      checkPixelAccuracy(request.pixel(), camera, limits);
-      return;
-    }
+      checkWithCore([&] { validateTolerance(request.relative(), true, "relative"); });
+      job.accuracy = Accuracy::relative(request.relative());
+      break;
+    case v1::TessellateRequest::kPixel:
+      job.camera = checkCamera(request.pixel(), limits);
+      job.accuracy = Accuracy::pixel(checkPixelAccuracy(request.pixel(), *job.camera, limits));
+      break;
     case v1::TessellateRequest::TOLERANCE_NOT_SET:
       if (!request.has_uniform_level()) {
         throwInvalidArgument(
             "tolerance: one of absolute, relative or pixel is required (or a uniform_level)");
       }
-      return;
+      break;
+  }
+  if (request.has_uniform_level()) {
+    checkWithCore([&] { validateUniformLevel(request.uniform_level(), "uniform_level"); });
+    job.accuracy = Accuracy::uniformLevel(request.uniform_level());
+    checkAccuracyLimits(job.accuracy, "uniform_level", limits);
+    job.camera.reset();
   }
 }
 
 }  // namespace
 
-void checkTessellateRequest(const v1::TessellateRequest& request, const TessellationLimits& limits) {
-  checkTolerance(request, limits);
-  if (request.has_eta()) {
-    double eta = request.eta();
-    if (!std::isfinite(eta) || eta < 0 || eta >= 1) {
-      throwInvalidArgument(fmt::format("eta: must be in [0, 1) (got {})", eta));
-    }
-  }
-  if (request.has_uniform_level()) {
-    checkWithCore([&] { validateUniformLevel(request.uniform_level(), "uniform_level"); });
-    checkAccuracyLimits(Accuracy::uniformLevel(request.uniform_level()), "uniform_level", limits);
-  }
+TessellationJob checkTessellateRequest(const v1::TessellateRequest& request, const TessellationLimits& limits) {
+  TessellationJob job;
+  checkAccuracy(request, limits, job);
+  job.eta = request.has_eta() ? request.eta() : kDefaultEta;
+  checkWithCore([&] { validateEta(job.eta, "eta"); });
   if (!v1::GlbEncoding_IsValid(request.encoding())) {
     throwInvalidArgument(fmt::format("encoding: unknown value {} (GLB_ENCODING_FLOAT, _QUANTIZED or _MESHOPT)",
                                      int(request.encoding())));
   }
+  job.encoding = request.encoding() == v1::GLB_ENCODING_QUANTIZED ? GlbEncoding::kQuantized
+                 : request.encoding() == v1::GLB_ENCODING_MESHOPT ? GlbEncoding::kMeshopt
+                                                                   : GlbEncoding::kFloat;
+  job.maxTriangles = limits.maxTriangles;
   if (request.has_max_triangles()) {
     int64_t max = request.max_triangles();
     if (max < 0) throwInvalidArgument(fmt::format("max_triangles: must not be negative (got {})", max));
@@ -76,36 +83,19 @@ void checkTessellateRequest(const v1::TessellateRequest& request, const Tessella
       throwResourceExhausted(fmt::format("max_triangles: {} exceeds the server's max_triangles of {}",
                                          max, limits.maxTriangles));
     }
-  }
-}
-
-TessellationJob planTessellationJob(const v1::TessellateRequest& request,
-                                    const MeshMetadata& metadata, const TessellationLimits& limits) {
-  TessellationJob job;
-  job.meshId = metadata.id;
-  job.meshSha256 = metadata.sha256;
-  job.eta = request.has_eta() ? request.eta() : kDefaultEta;
-  job.maxTriangles = request.has_max_triangles() && request.max_triangles() > 0
-                         ? request.max_triangles()
-                         : limits.maxTriangles;
-  job.encoding = request.encoding() == v1::GLB_ENCODING_QUANTIZED ? GlbEncoding::kQuantized
-                 : request.encoding() == v1::GLB_ENCODING_MESHOPT ? GlbEncoding::kMeshopt
-                                                                   : GlbEncoding::kFloat;
-  if (request.tolerance_case() == v1::TessellateRequest::kPixel) {
-    job.camera = checkCamera(request.pixel(), limits);
-    job.accuracy = Accuracy::pixel(checkPixelAccuracy(request.pixel(), *job.camera, limits));
-  } else if (request.tolerance_case() != v1::TessellateRequest::TOLERANCE_NOT_SET) {
-    // ε in model units: the server's limits are checked on it, and the engine gets that value.
-    const bool absolute = request.tolerance_case() == v1::TessellateRequest::kAbsolute;
-    const Accuracy asked = absolute ? Accuracy::absolute(request.absolute()) : Accuracy::relative(request.relative());
-    job.accuracy = Accuracy::absolute(toleranceOnMesh(asked, absolute ? "absolute" : "relative", metadata, limits));
-  }
-  // A level decides alone, whatever tolerance came with it (checked all the same).
-  if (request.has_uniform_level()) {
-    job.accuracy = Accuracy::uniformLevel(request.uniform_level());
-    job.camera.reset();
+    if (max > 0) job.maxTriangles = max;
   }
   return job;
+}
+
+void placeOnMesh(TessellationJob& job, const MeshMetadata& metadata, const TessellationLimits& limits) {
+  job.meshId = metadata.id;
+  job.meshSha256 = metadata.sha256;
+  const Accuracy::Mode mode = job.accuracy.mode;
+  if (mode != Accuracy::Mode::kAbsolute && mode != Accuracy::Mode::kRelative) return;
+  // ε in model units: the server's limits are checked on it, and the engine gets that value.
+  const char* field = mode == Accuracy::Mode::kAbsolute ? "absolute" : "relative";
+  job.accuracy = Accuracy::absolute(toleranceOnMesh(job.accuracy, field, metadata, limits));
 }
 
 }  // namespace tessera::server

@@ -13,13 +13,14 @@
 
 namespace tessera::server {
 
-// What can be checked without the mesh; run before looking the mesh up.
-void checkTessellateRequest(const tessera::v1::TessellateRequest& request,
-                            const TessellationLimits& limits);
+// Every check that needs no mesh, each run once, and the job as far as the request alone makes
+// it: a tolerance still as asked (absolute or relative). Run before looking the mesh up.
+TessellationJob checkTessellateRequest(const tessera::v1::TessellateRequest& request,
+                                       const TessellationLimits& limits);
 
-// The job for request on the mesh described by metadata (whose bounding box scales relative
-// tolerances and bounds absolute ones). Expects checkTessellateRequest to have passed.
-TessellationJob planTessellationJob(const tessera::v1::TessellateRequest& request,
-                                    const MeshMetadata& metadata, const TessellationLimits& limits);
+// The job on the mesh `metadata` describes: a tolerance turned into model units against the
+// mesh's bounding box and checked against it and the server's limits (toleranceOnMesh), and the
+// mesh's id and content hash.
+void placeOnMesh(TessellationJob& job, const MeshMetadata& metadata, const TessellationLimits& limits);
 
 }  // namespace tessera::server

@@ -97,13 +97,13 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
                                                  grpc::ServerWriter<v1::TessellateResponse>* stream) {
   const ReleaseMemoryOnExit release;  // after the call, whichever way it ends
   return guardCall(*context, auth_, [&] {
-    checkTessellateRequest(*request, limits_);
+    TessellationJob job = checkTessellateRequest(*request, limits_);
     StreamWatch::Call call = streams_.open(*context, "Tessellate");
     Writer watched(*stream, call);
     Writer* writer = &watched;
     std::string id = meshIdFromName(request->name(), "name");
     MeshMetadata metadata = repository_.metadata(id);
-    TessellationJob job = planTessellationJob(*request, metadata, limits_);
+    placeOnMesh(job, metadata, limits_);
     CancellationToken cancel = cancellationFor(*context);
     TessellationOutput output;
     {
