@@ -10,9 +10,9 @@
 #include <memory>
 #include <string>
 
-#include "core/pipeline/preprocessing.h"
-#include "core/pipeline/glb_output.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/glb_output.h"
+#include "core/pipeline/preprocessing.h"
 #include "reference/models.h"
 
 namespace tessera::bench {

@@ -8,9 +8,9 @@
 #include <mutex>
 #include <new>
 
-#include "core/pipeline/preprocessing.h"
 #include "bench/write_floor.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
 
 namespace tessera::bench {
 

@@ -41,11 +41,11 @@
 #include <string>
 
 #include "bench/machine_load.h"
-#include "core/topology/far_topology.h"
-#include "core/output/glb_writer.h"
 #include "core/mesh/obj_reader.h"
+#include "core/output/glb_writer.h"
 #include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
+#include "core/topology/far_topology.h"
 #include "reference/limit_distance.h"
 #include "reference/models.h"
 

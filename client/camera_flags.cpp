@@ -1,7 +1,7 @@
 #include "client/camera_flags.h"
 
-#include "core/request/camera_text.h"
 #include "core/base/error.h"
+#include "core/request/camera_text.h"
 
 namespace tessera::cli {
 

@@ -5,15 +5,15 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "core/pipeline/preprocessing.h"
 #include "client/camera_flags.h"
 #include "client/commands.h"
 #include "core/base/error.h"
-#include "core/pipeline/glb_output.h"
-#include "core/mesh/mesh_codec.h"
-#include "core/pipeline/mesh_report.h"
-#include "core/mesh/obj_reader.h"
 #include "core/base/sha256.h"
+#include "core/mesh/mesh_codec.h"
+#include "core/mesh/obj_reader.h"
+#include "core/pipeline/glb_output.h"
+#include "core/pipeline/mesh_report.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 #if TESSERA_WITH_REMOTE
 #include "client/remote_tessellate.h"

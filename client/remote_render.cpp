@@ -12,8 +12,8 @@
 #include <regex>
 #include <stdexcept>
 
-#include "core/request/camera_text.h"
 #include "client/remote_progress.h"
+#include "core/request/camera_text.h"
 #include "tessera/v1/render.grpc.pb.h"
 
 namespace tessera::cli {

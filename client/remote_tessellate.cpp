@@ -9,10 +9,10 @@
 #include <memory>
 
 #include "client/commands.h"
-#include "core/request/camera_text.h"
 #include "client/remote_progress.h"
 #include "core/base/error.h"
 #include "core/output/glb_writer.h"
+#include "core/request/camera_text.h"
 #include "tessera/v1/tessellation.grpc.pb.h"
 
 namespace tessera::cli {

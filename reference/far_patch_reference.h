@@ -11,8 +11,8 @@
 #include <opensubdiv/far/ptexIndices.h>
 
 #include "core/mesh/control_mesh.h"
-#include "core/topology/far_topology.h"
 #include "core/rings/patch_set.h"
+#include "core/topology/far_topology.h"
 
 namespace tessera::testing {
 

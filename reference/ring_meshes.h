@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/rings/cer_layout.h"
 #include "core/mesh/control_mesh.h"
+#include "core/rings/cer_layout.h"
 
 namespace tessera::testing {
 

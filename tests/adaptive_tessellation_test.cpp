@@ -12,19 +12,19 @@
 #include <set>
 #include <string>
 
-#include "core/surface/adaptive_surface.h"
-#include "core/surface/surface_tree.h"
-#include "core/stitching/adaptive_tessellator.h"
-#include "core/uniform/domain_keys.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
-#include "core/surface/surface_evaluation.h"
 #include "core/pipeline/tessellate.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/surface/surface_evaluation.h"
+#include "core/surface/surface_tree.h"
+#include "core/uniform/domain_keys.h"
 #include "reference/bfr_reference.h"
 #include "reference/limit_distance.h"
 #include "reference/limit_projection.h"
-#include "reference/triangle_bvh.h"
 #include "reference/models.h"
+#include "reference/triangle_bvh.h"
 
 namespace tessera {
 namespace {

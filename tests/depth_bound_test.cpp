@@ -5,13 +5,13 @@
 
 #include <cmath>
 
-#include "core/math/bicubic.h"
 #include "core/bounds/depth_bound.h"
 #include "core/bounds/depth_tables.h"
-#include "core/rings/fas.h"
-#include "core/rings/innermost_patch.h"
+#include "core/math/bicubic.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
+#include "core/rings/fas.h"
+#include "core/rings/innermost_patch.h"
 #include "reference/bfr_reference.h"
 #include "reference/models.h"
 #include "reference/ring_meshes.h"

@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/surface/adaptive_surface.h"
 #include "core/math/bicubic.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
+#include "core/surface/adaptive_surface.h"
 #include "core/surface/surface_evaluation.h"
 #include "reference/limit_projection.h"
 #include "reference/models.h"

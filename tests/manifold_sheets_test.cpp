@@ -14,8 +14,8 @@
 #include "core/mesh/obj_reader.h"
 #include "reference/bfr_reference.h"
 #include "reference/far_patch_reference.h"
-#include "tests/support/model_stats.h"
 #include "reference/models.h"
+#include "tests/support/model_stats.h"
 
 namespace tessera {
 namespace {

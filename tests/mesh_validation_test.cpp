@@ -6,8 +6,8 @@
 #include <limits>
 #include <string>
 
-#include "core/mesh/control_mesh.h"
 #include "core/base/error.h"
+#include "core/mesh/control_mesh.h"
 
 namespace tessera {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <map>
 
-#include "core/math/bicubic.h"
 #include "core/base/error.h"
+#include "core/math/bicubic.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
 #include "core/rings/ring_refinement.h"

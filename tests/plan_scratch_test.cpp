@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/surface/adaptive_surface.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
+#include "core/surface/adaptive_surface.h"
 #include "reference/models.h"
 
 namespace tessera {

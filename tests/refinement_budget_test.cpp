@@ -7,8 +7,8 @@
 #include <utility>
 
 #include "core/base/error.h"
-#include "core/topology/far_topology.h"
 #include "core/mesh/obj_reader.h"
+#include "core/topology/far_topology.h"
 #include "core/topology/refinement_budget.h"
 #include "reference/models.h"
 

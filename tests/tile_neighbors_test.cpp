@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "core/adaptive/adaptive_plan.h"
-#include "core/surface/adaptive_surface.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
+#include "core/surface/adaptive_surface.h"
 #include "reference/models.h"
 
 namespace tessera {

@@ -10,10 +10,10 @@
 #include <tuple>
 #include <vector>
 
-#include "core/surface/adaptive_surface.h"
-#include "core/stitching/adaptive_tessellator.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/surface/adaptive_surface.h"
 #include "reference/models.h"
 
 namespace tessera {

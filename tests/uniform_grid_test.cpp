@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/math/bicubic.h"
 #include "core/base/error.h"
+#include "core/math/bicubic.h"
 #include "core/mesh/obj_reader.h"
 #include "core/uniform/tessellation_plan.h"
 #include "reference/models.h"

@@ -6,14 +6,14 @@
 
 #include <limits>
 
-#include "core/pipeline/preprocessing.h"
-#include "core/surface/adaptive_surface.h"
 #include "core/mesh/obj_reader.h"
-#include "core/surface/surface_evaluation.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 #include "core/stitching/vertex_evaluation.h"
-#include "tests/support/mesh_equality.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/surface/surface_evaluation.h"
 #include "reference/models.h"
+#include "tests/support/mesh_equality.h"
 
 namespace tessera {
 namespace {

@@ -7,13 +7,13 @@
 #include <limits>
 #include <numeric>
 
-#include "core/surface/adaptive_surface.h"
-#include "core/math/dyadic.h"
-#include "core/bounds/edge_curvature.h"
 #include "core/adaptive/grid_rates.h"
-#include "core/base/parallel_chunks.h"
 #include "core/adaptive/tile_neighbors.h"
 #include "core/adaptive/tile_rectangles.h"
+#include "core/base/parallel_chunks.h"
+#include "core/bounds/edge_curvature.h"
+#include "core/math/dyadic.h"
+#include "core/surface/adaptive_surface.h"
 #include "core/surface/tolerance_model.h"
 
 namespace tessera {

@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "core/math/dyadic.h"
+#include "core/request/tessellation_options.h"
 #include "core/surface/surface_evaluation.h"
 #include "core/surface/surface_tree.h"
-#include "core/request/tessellation_options.h"
 
 namespace tessera {
 

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/adaptive/adaptive_plan.h"
-#include "core/base/scratch_pool.h"
 #include "core/adaptive/tile_neighbors.h"
+#include "core/base/scratch_pool.h"
 
 namespace tessera {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/rings/innermost_patch.h"
 #include "core/bounds/linear_model.h"
+#include "core/rings/innermost_patch.h"
 #include "core/rings/ring_patches.h"
 
 namespace tessera {

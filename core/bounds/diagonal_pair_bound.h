@@ -4,8 +4,8 @@
 
 #include <array>
 
-#include "core/math/bezier_net.h"
 #include "core/bounds/diagonal_reparameterization.h"
+#include "core/math/bezier_net.h"
 
 namespace tessera {
 

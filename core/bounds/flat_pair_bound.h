@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <optional>
 
-#include "core/math/bezier_net.h"
 #include "core/bounds/graded_pair_bound.h"
+#include "core/math/bezier_net.h"
 
 namespace tessera {
 

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <optional>
 
-#include "core/math/bicubic.h"
 #include "core/bounds/diagonal_pair_bound.h"
 #include "core/bounds/diagonal_reparameterization.h"
+#include "core/math/bicubic.h"
 
 namespace tessera {
 

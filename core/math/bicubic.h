@@ -3,9 +3,9 @@
 // row-major, index 4*row + col, col along s (u), row along t (v).
 #pragma once
 
-#include "core/math/cubic_bernstein.h"
 #include "core/base/host_device.h"
 #include "core/base/vec3.h"
+#include "core/math/cubic_bernstein.h"
 
 namespace tessera {
 

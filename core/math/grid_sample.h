@@ -8,9 +8,9 @@
 
 #include <cstdint>
 
-#include "core/math/bicubic.h"
 #include "core/base/host_device.h"
 #include "core/base/vec3.h"
+#include "core/math/bicubic.h"
 
 namespace tessera {
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/mesh/control_mesh.h"
+
 #include "core/base/error.h"
 
 namespace tessera {

@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "core/mesh/control_mesh.h"
-#include "core/topology/limit_uvs.h"
 #include "core/mesh/triangle_mesh.h"
+#include "core/topology/limit_uvs.h"
 
 namespace tessera {
 

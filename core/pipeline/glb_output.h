@@ -8,8 +8,8 @@
 #include <string>
 
 #include "core/output/glb_writer.h"
-#include "core/rings/patch_set.h"
 #include "core/pipeline/tessellate.h"
+#include "core/rings/patch_set.h"
 
 namespace tessera {
 

@@ -3,9 +3,9 @@
 #include <set>
 #include <utility>
 
-#include "core/pipeline/preprocessing.h"
 #include "core/base/error.h"
 #include "core/mesh/subdivision_rules.h"
+#include "core/pipeline/preprocessing.h"
 
 namespace tessera {
 

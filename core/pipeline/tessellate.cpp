@@ -4,11 +4,11 @@
 #include <chrono>
 #include <string>
 
-#include "core/surface/adaptive_surface.h"
-#include "core/stitching/adaptive_tessellator.h"
 #include "core/base/error.h"
-#include "core/uniform/tessellation_plan.h"
 #include "core/output/uv_seams.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/uniform/tessellation_plan.h"
 
 namespace tessera {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "core/mesh/control_mesh.h"
-#include "core/rings/patch_set.h"
 #include "core/request/tessellation_options.h"
+#include "core/rings/patch_set.h"
 #include "core/uniform/tessellation_plan.h"
 #include "core/uniform/watertight_tessellator.h"
 

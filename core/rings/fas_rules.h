@@ -11,8 +11,8 @@
 // regular (see patch_builder.cpp), which is what lets every emitted patch be a B-spline.
 #pragma once
 
-#include "core/rings/cer_layout.h"
 #include "core/base/host_device.h"
+#include "core/rings/cer_layout.h"
 
 namespace tessera {
 

@@ -6,10 +6,10 @@
 // ring, so the depth tables (depth_bound.h) bound its error exactly as shipped.
 #pragma once
 
+#include "core/base/host_device.h"
 #include "core/math/bicubic.h"
 #include "core/rings/cer_layout.h"
 #include "core/rings/fas_rules.h"
-#include "core/base/host_device.h"
 #include "core/rings/ring_patches.h"
 
 namespace tessera {

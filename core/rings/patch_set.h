@@ -8,9 +8,9 @@
 #include <memory>
 #include <vector>
 
+#include "core/base/vec3.h"
 #include "core/rings/cer_layout.h"
 #include "core/rings/fas_rules.h"
-#include "core/base/vec3.h"
 
 namespace tessera {
 

@@ -5,10 +5,10 @@
 // boundary patches extrapolate.
 #pragma once
 
-#include "core/rings/cer_layout.h"
-#include "core/rings/fas_rules.h"
 #include "core/base/host_device.h"
 #include "core/base/vec3.h"
+#include "core/rings/cer_layout.h"
+#include "core/rings/fas_rules.h"
 
 namespace tessera {
 

@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <numeric>
 
-#include "core/base/error.h"
-#include "core/stitching/face_triangles.h"
-#include "core/base/parallel_chunks.h"
 #include "core/adaptive/plan_scratch.h"
+#include "core/base/error.h"
+#include "core/base/parallel_chunks.h"
+#include "core/stitching/face_triangles.h"
 #include "core/stitching/tile_stitching.h"
 #include "core/stitching/tile_triangulation.h"
 

@@ -7,10 +7,10 @@
 #include <functional>
 
 #include "core/adaptive/adaptive_plan.h"
-#include "core/surface/adaptive_surface.h"
+#include "core/mesh/triangle_mesh.h"
 #include "core/stitching/tile_stitching.h"
 #include "core/stitching/vertex_evaluation.h"
-#include "core/mesh/triangle_mesh.h"
+#include "core/surface/adaptive_surface.h"
 
 namespace tessera {
 

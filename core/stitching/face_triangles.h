@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "core/adaptive/adaptive_plan.h"
-#include "core/surface/adaptive_surface.h"
-#include "core/stitching/line_points.h"
 #include "core/rings/patch_set.h"
-#include "core/surface/surface_evaluation.h"
+#include "core/stitching/line_points.h"
 #include "core/stitching/tile_stitching.h"
+#include "core/surface/adaptive_surface.h"
+#include "core/surface/surface_evaluation.h"
 
 namespace tessera {
 

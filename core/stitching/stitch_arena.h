@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/stitching/line_points.h"
 #include "core/base/scratch_pool.h"
+#include "core/stitching/line_points.h"
 #include "core/stitching/tile_stitching.h"
 
 namespace tessera::stitch {

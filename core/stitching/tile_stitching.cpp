@@ -7,9 +7,9 @@
 #include <memory>
 #include <numeric>
 
+#include "core/base/parallel_chunks.h"
 #include "core/stitching/face_triangles.h"
 #include "core/stitching/line_points.h"
-#include "core/base/parallel_chunks.h"
 #include "core/stitching/stitch_arena.h"
 
 namespace tessera {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/adaptive/adaptive_plan.h"
-#include "core/surface/seam_lines.h"
 #include "core/base/uninitialized_vector.h"
+#include "core/surface/seam_lines.h"
 
 namespace tessera {
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <bit>
 
-#include "core/stitching/face_triangles.h"
 #include "core/base/small_vector.h"
+#include "core/stitching/face_triangles.h"
 
 namespace tessera {
 

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "core/adaptive/adaptive_plan.h"
-#include "core/stitching/tile_stitching.h"
 #include "core/base/vec3.h"
+#include "core/stitching/tile_stitching.h"
 
 namespace tessera {
 

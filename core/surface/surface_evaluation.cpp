@@ -1,8 +1,8 @@
 #include "core/surface/surface_evaluation.h"
 
 #include "core/math/bicubic.h"
-#include "core/rings/fas.h"
 #include "core/math/lanes.h"
+#include "core/rings/fas.h"
 #include "core/rings/ring_patches.h"
 
 namespace tessera {

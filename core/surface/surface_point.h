@@ -8,10 +8,10 @@
 #include <cstdint>
 #include <cstring>
 
+#include "core/base/host_device.h"
 #include "core/math/bezier_net.h"
 #include "core/math/bicubic.h"
 #include "core/math/dyadic.h"
-#include "core/base/host_device.h"
 #include "core/surface/surface_tree.h"
 
 namespace tessera {

@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/bounds/depth_tables.h"
-#include "core/bounds/depth_bound.h"
 #include "core/base/error.h"
-#include "core/rings/fas.h"
+#include "core/bounds/depth_bound.h"
+#include "core/bounds/depth_tables.h"
 #include "core/bounds/flat_pair_bound.h"
 #include "core/bounds/graded_pair_bound.h"
+#include "core/rings/fas.h"
 #include "core/rings/innermost_patch.h"
 #include "core/rings/ring_patches.h"
 #include "core/rings/ring_refinement.h"

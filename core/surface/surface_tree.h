@@ -14,8 +14,8 @@
 #include <functional>
 #include <vector>
 
-#include "core/math/bezier_net.h"
 #include "core/bounds/edge_curvature.h"
+#include "core/math/bezier_net.h"
 #include "core/mesh/control_mesh.h"
 #include "core/rings/patch_set.h"
 

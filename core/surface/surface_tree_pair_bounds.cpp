@@ -5,10 +5,10 @@
 #include <bit>
 #include <optional>
 
-#include "core/math/bicubic.h"
 #include "core/bounds/diagonal_pair_bound.h"
-#include "core/math/dyadic.h"
 #include "core/bounds/flat_pair_bound.h"
+#include "core/math/bicubic.h"
+#include "core/math/dyadic.h"
 #include "core/surface/surface_evaluation.h"
 #include "core/surface/surface_tree_builder.h"
 

@@ -6,8 +6,8 @@
 // encoding's reserve (TessellationOptions::encodingReserve), which the output spends.
 #pragma once
 
-#include "core/rings/patch_set.h"
 #include "core/request/tessellation_options.h"
+#include "core/rings/patch_set.h"
 
 namespace tessera {
 

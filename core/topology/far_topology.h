@@ -8,8 +8,8 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/topologyRefiner.h>
 
-#include "core/mesh/control_mesh.h"
 #include "core/base/vec3.h"
+#include "core/mesh/control_mesh.h"
 
 namespace tessera {
 

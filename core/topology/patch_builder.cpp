@@ -15,11 +15,11 @@
 #include <opensubdiv/far/ptexIndices.h>
 
 #include "core/base/error.h"
-#include "core/topology/limit_uvs.h"
 #include "core/topology/far_topology.h"
-#include "core/topology/ring_extraction.h"
-#include "core/topology/refinement_input.h"
+#include "core/topology/limit_uvs.h"
 #include "core/topology/refinement_budget.h"
+#include "core/topology/refinement_input.h"
+#include "core/topology/ring_extraction.h"
 
 namespace tessera {
 

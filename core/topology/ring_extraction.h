@@ -8,8 +8,8 @@
 
 #include <opensubdiv/far/topologyRefiner.h>
 
-#include "core/rings/cer_layout.h"
 #include "core/base/vec3.h"
+#include "core/rings/cer_layout.h"
 
 namespace tessera {
 

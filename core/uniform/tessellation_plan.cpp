@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/math/bezier_net.h"
-#include "core/math/bicubic.h"
 #include "core/bounds/depth_bound.h"
 #include "core/bounds/depth_tables.h"
+#include "core/math/bezier_net.h"
+#include "core/math/bicubic.h"
 #include "core/rings/fas_rules.h"
 #include "core/rings/innermost_patch.h"
 #include "core/rings/ring_patches.h"

@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/rings/patch_set.h"
 #include "core/request/tessellation_options.h"
+#include "core/rings/patch_set.h"
 
 namespace tessera {
 

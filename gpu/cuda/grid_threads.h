@@ -11,9 +11,9 @@
 
 #include <cstdint>
 
-#include "core/math/grid_sample.h"
 #include "core/base/host_device.h"
 #include "core/base/vec3.h"
+#include "core/math/grid_sample.h"
 
 namespace tessera::cuda {
 

@@ -1,7 +1,7 @@
 #include "gpu/cuda/surface_upload.h"
 
-#include "core/surface/adaptive_surface.h"
 #include "core/base/error.h"
+#include "core/surface/adaptive_surface.h"
 #include "core/surface/surface_evaluation.h"
 
 namespace tessera::cuda {

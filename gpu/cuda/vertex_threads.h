@@ -7,8 +7,8 @@
 #include <cstdint>
 
 #include "core/base/host_device.h"
-#include "core/surface/surface_point.h"
 #include "core/stitching/tile_stitching.h"
+#include "core/surface/surface_point.h"
 
 namespace tessera::cuda {
 

@@ -18,8 +18,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/rings/fas_rules.h"
 #include "core/base/host_device.h"
+#include "core/rings/fas_rules.h"
 #include "gpu/cuda/warp_step_program.h"
 
 namespace tessera::cuda {

@@ -14,8 +14,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/rings/fas_step_program.h"
 #include "core/base/host_device.h"
+#include "core/rings/fas_step_program.h"
 
 namespace tessera::cuda {
 

@@ -24,8 +24,8 @@
 #include <functional>
 #include <vector>
 
-#include "core/rings/patch_set.h"
 #include "core/request/tessellation_options.h"
+#include "core/rings/patch_set.h"
 #include "core/uniform/tessellation_plan.h"
 #include "gpu/vulkan/device_selection.h"
 #include "gpu/vulkan/render_types.h"

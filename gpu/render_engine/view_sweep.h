@@ -6,8 +6,8 @@
 
 #include <vector>
 
-#include "core/rings/patch_set.h"
 #include "core/request/tessellation_options.h"
+#include "core/rings/patch_set.h"
 
 namespace tessera::gpu {
 

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "core/mesh/control_mesh.h"
 #include "core/base/vec3.h"
+#include "core/mesh/control_mesh.h"
 
 namespace tessera::server {
 

@@ -4,8 +4,8 @@
 
 #include "core/mesh/mesh_codec.h"
 #include "core/mesh/subdivision_rules.h"
-#include "server/meshes/mesh_names.h"
 #include "server/calls/status_error.h"
+#include "server/meshes/mesh_names.h"
 
 namespace tessera::server {
 namespace {

@@ -5,10 +5,10 @@
 
 #include <chrono>
 
-#include "core/mesh/mesh_codec.h"
-#include "server/meshes/mesh_names.h"
 #include "core/base/sha256.h"
+#include "core/mesh/mesh_codec.h"
 #include "server/calls/status_error.h"
+#include "server/meshes/mesh_names.h"
 
 namespace tessera::server {
 namespace {

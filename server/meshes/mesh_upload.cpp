@@ -6,12 +6,12 @@
 #include <cmath>
 
 #include "core/base/error.h"
-#include "core/topology/refinement_input.h"
-#include "core/pipeline/memory_estimates.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/memory_estimates.h"
 #include "core/topology/refinement_budget.h"
-#include "server/meshes/mesh_names.h"
+#include "core/topology/refinement_input.h"
 #include "server/calls/status_error.h"
+#include "server/meshes/mesh_names.h"
 
 namespace tessera::server {
 namespace {

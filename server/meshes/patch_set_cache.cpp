@@ -1,8 +1,8 @@
 #include "server/meshes/patch_set_cache.h"
 
+#include "core/pipeline/memory_estimates.h"
 #include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
-#include "core/pipeline/memory_estimates.h"
 
 #include <vector>
 

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh/control_mesh.h"
 #include "core/request/accuracy.h"
 #include "core/request/camera.h"
-#include "core/mesh/control_mesh.h"
 #include "server/calls/cancellation.h"
 #include "server/calls/memory_reservation.h"
 #include "server/meshes/patch_set_cache.h"

@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "core/base/error.h"
+#include "core/base/sha256.h"
 #include "server/calls/call_guard.h"
 #include "server/calls/memory_release.h"
+#include "server/calls/status_error.h"
 #include "server/meshes/mesh_names.h"
 #include "server/render/render_request.h"
 #include "server/render/render_session.h"
-#include "core/base/sha256.h"
-#include "server/calls/status_error.h"
 
 namespace tessera::server {
 

@@ -12,10 +12,10 @@
 #include <string_view>
 #include <vector>
 
-#include "core/request/accuracy.h"
-#include "core/request/camera.h"
 #include "core/mesh/control_mesh.h"
 #include "core/output/glb_writer.h"
+#include "core/request/accuracy.h"
+#include "core/request/camera.h"
 #include "server/calls/cancellation.h"
 #include "server/calls/memory_reservation.h"
 

@@ -4,11 +4,11 @@
 #include <chrono>
 #include <string_view>
 
-#include "server/calls/call_guard.h"
-#include "server/meshes/mesh_names.h"
-#include "server/calls/memory_release.h"
 #include "core/base/sha256.h"
+#include "server/calls/call_guard.h"
+#include "server/calls/memory_release.h"
 #include "server/calls/status_error.h"
+#include "server/meshes/mesh_names.h"
 
 namespace tessera::server {
 namespace {

@@ -12,8 +12,8 @@
 #include "core/base/error.h"
 #include "core/mesh/obj_reader.h"
 #include "gpu/cuda/device_info.h"
-#include "tests/cuda/grid_cases.h"
 #include "reference/models.h"
+#include "tests/cuda/grid_cases.h"
 
 namespace tessera::cuda {
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/uniform/uniform_grid.h"
 #include "reference/models.h"
 

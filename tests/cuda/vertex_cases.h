@@ -8,8 +8,8 @@
 
 #include "core/base/error.h"
 #include "core/mesh/obj_reader.h"
-#include "core/rings/patch_set.h"
 #include "core/pipeline/tessellate.h"
+#include "core/rings/patch_set.h"
 #include "core/stitching/vertex_evaluation.h"
 #include "reference/models.h"
 

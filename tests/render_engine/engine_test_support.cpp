@@ -8,8 +8,8 @@
 #include <map>
 #include <memory>
 
-#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
 #include "reference/models.h"
 
 namespace tessera::testing {

@@ -8,8 +8,8 @@
 #include <functional>
 #include <vector>
 
-#include "core/mesh/control_mesh.h"
 #include "core/base/vec3.h"
+#include "core/mesh/control_mesh.h"
 #include "gpu/vulkan/render_types.h"
 
 namespace tessera::testing {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
 
 namespace tessera::test {
 

@@ -27,11 +27,11 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/pipeline/preprocessing.h"
-#include "core/surface/adaptive_surface.h"
-#include "core/stitching/adaptive_tessellator.h"
 #include "core/bounds/edge_curvature.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
+#include "core/stitching/adaptive_tessellator.h"
+#include "core/surface/adaptive_surface.h"
 #include "core/surface/surface_evaluation.h"
 #include "reference/triangle_bvh.h"  // closestPointOnTriangle
 

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "core/pipeline/preprocessing.h"
 #include "core/base/error.h"
-#include "core/output/glb_writer.h"
 #include "core/mesh/obj_reader.h"
+#include "core/output/glb_writer.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 
 namespace {

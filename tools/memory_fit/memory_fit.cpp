@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh/obj_reader.h"
 #include "core/output/glb_writer.h"
 #include "core/pipeline/memory_estimates.h"
-#include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "core/pipeline/preprocessing.h"
-#include "core/output/glb_writer.h"
 #include "core/mesh/obj_reader.h"
+#include "core/output/glb_writer.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 #include "gpu/cuda/bench/bench_timing.h"
 #include "gpu/cuda/cuda_surface.h"

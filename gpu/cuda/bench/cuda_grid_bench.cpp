@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "core/pipeline/preprocessing.h"
 #include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/uniform/uniform_grid.h"
 #include "gpu/cuda/bench/bench_timing.h"
 #include "gpu/cuda/cuda_uniform_grid.h"
