@@ -95,3 +95,17 @@ function(tessera_check_internal_headers)
     endforeach()
   endforeach()
 endfunction()
+
+# tessera_check_no_includes(PREFIX DIR...): no file under DIR includes "PREFIX...": the layers that
+# ship or measure (gpu, server, client, bench, tools, reference) never reach into tests/.
+function(tessera_check_no_includes prefix)
+  foreach(dir IN LISTS ARGN)
+    file(GLOB_RECURSE files ${dir}/*.h ${dir}/*.cpp ${dir}/*.cu ${dir}/*.cuh)
+    foreach(file IN LISTS files)
+      file(STRINGS ${file} hits REGEX "^[ \t]*#[ \t]*include[ \t]+\"${prefix}")
+      if(hits)
+        message(FATAL_ERROR "${file} includes ${prefix}: only tests may")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
