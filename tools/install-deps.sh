@@ -15,6 +15,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # GLB compression (EXT_meshopt_compression)
   libmeshoptimizer-dev
+  # glTF documents: the tests read GLBs back through tinygltf (tests/support/glb_reader.h)
+  libtinygltf-dev
   # command line and logs
   libcli11-dev libspdlog-dev libfmt-dev
   # service
