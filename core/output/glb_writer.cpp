@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <meshoptimizer.h>
-#include <tiny_gltf.h>
 
 #include <algorithm>
 #include <array>
@@ -12,7 +11,8 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <numeric>
-#include <sstream>
+#include <string_view>
+
 
 #include "core/base/error.h"
 #include "core/base/version.h"
@@ -213,127 +213,151 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   return result;
 }
 
-// The glTF document, built as a tinygltf::Model and serialized by tinygltf. Debian's tinygltf
-// (2.7.0) writes neither a buffer's extensions nor a view's, and takes a buffer's byteLength from
-// the data it holds (the BIN chunk copied once more); so the buffers, and under meshopt the views'
-// EXT_meshopt_compression objects, are added to the text it writes.
-tinygltf::Value glbExtras(const GlbOptions& options) {
+// The JSON chunk written directly, keys in the byte order nlohmann::json keeps them (the files
+// are the same as when it was built as a json tree and dumped; that tree cost ~210K instructions
+// a call, 10 % of a small request's whole time). Numbers and strings go through nlohmann's own
+// serializer, so their formatting and escaping stay its.
+class JsonChunk {
+ public:
+  JsonChunk& raw(std::string_view text) {
+    text_ += text;
+    return *this;
+  }
+  // `"key":`, after a comma unless it opens its object.
+  JsonChunk& key(std::string_view name) {
+    if (text_.back() != '{' && text_.back() != '[') text_ += ',';
+    text_ += '"';
+    text_ += name;
+    return raw("\":");
+  }
+  // A value in an array (a comma before all but the first).
+  JsonChunk& item() {
+    if (text_.back() != '[') text_ += ',';
+    return *this;
+  }
+  JsonChunk& number(size_t value) { return raw(std::to_string(value)); }
+  JsonChunk& number(int value) { return raw(std::to_string(value)); }
+  JsonChunk& number(double value) { return raw(nlohmann::json(value).dump()); }
+  JsonChunk& string(const std::string& value) { return raw(nlohmann::json(value).dump()); }
+  JsonChunk& vector(const double (&v)[3]) {
+    raw("[").number(v[0]).raw(",").number(v[1]).raw(",").number(v[2]);
+    return raw("]");
+  }
+  std::string take() { return std::move(text_); }
+
+ private:
+  std::string text_;
+};
+
+void writeExtras(const GlbOptions& options, JsonChunk& json) {
   const GlbDescription& d = options.description;
-  tinygltf::Value::Object source{{"name", tinygltf::Value(d.sourceName)}};
-  if (!d.sourceSha256.empty()) source["sha256"] = tinygltf::Value(d.sourceSha256);
-  tinygltf::Value::Object extras{
-      {"encoding", tinygltf::Value(std::string(glbEncodingName(options.encoding)))},
-      {"guaranteedBound", tinygltf::Value(d.guaranteedBound)},
-      {"source", tinygltf::Value(std::move(source))}};
-  if (d.pixelAccuracy) extras["pixelAccuracy"] = tinygltf::Value(*d.pixelAccuracy);
-  if (options.positions) extras["positionError"] = tinygltf::Value(options.positions->maxError);
-  if (d.tolerance) extras["tolerance"] = tinygltf::Value(*d.tolerance);
-  if (d.uniformLevel > 0) extras["uniformLevel"] = tinygltf::Value(d.uniformLevel);
-  return tinygltf::Value(std::move(extras));
+  json.raw("{").key("encoding").string(glbEncodingName(options.encoding));
+  json.key("guaranteedBound").number(d.guaranteedBound);
+  if (d.pixelAccuracy) json.key("pixelAccuracy").number(*d.pixelAccuracy);
+  if (options.positions) json.key("positionError").number(options.positions->maxError);
+  json.key("source").raw("{").key("name").string(d.sourceName);
+  if (!d.sourceSha256.empty()) json.key("sha256").string(d.sourceSha256);
+  json.raw("}");
+  if (d.tolerance) json.key("tolerance").number(*d.tolerance);
+  if (d.uniformLevel > 0) json.key("uniformLevel").number(d.uniformLevel);
+  json.raw("}");
 }
 
-tinygltf::Accessor accessor(int view, int componentType, size_t count, int type) {
-  tinygltf::Accessor a;
-  a.bufferView = view, a.componentType = componentType, a.count = count, a.type = type;
-  return a;
+void writeAccessor(JsonChunk& json, size_t view, int componentType, size_t count) {
+  json.item().raw("{").key("bufferView").number(view).key("componentType").number(componentType);
+  json.key("count").number(count);
 }
 
-void addAccessors(const Stored& stored, tinygltf::Model& model) {
-  tinygltf::Accessor positions = accessor(0, stored.positionType, stored.views[0].count, TINYGLTF_TYPE_VEC3);
+void writeAccessors(const Stored& stored, JsonChunk& json) {
+  json.key("accessors").raw("[");
+  writeAccessor(json, 0, stored.positionType, stored.views[0].count);
   if (stored.views[0].count > 0) {
-    positions.minValues.assign(stored.positionMin.begin(), stored.positionMin.end());
-    positions.maxValues.assign(stored.positionMax.begin(), stored.positionMax.end());
+    const auto& lo = stored.positionMin;
+    const auto& hi = stored.positionMax;
+    json.key("max").vector({hi[0], hi[1], hi[2]}).key("min").vector({lo[0], lo[1], lo[2]});
   }
-  model.accessors.push_back(std::move(positions));
-  model.accessors.push_back(accessor(1, stored.normalType, stored.views[1].count, TINYGLTF_TYPE_VEC3));
-  model.accessors.back().normalized = stored.normalType == kByte;
+  json.key("type").string("VEC3").raw("}");
+  writeAccessor(json, 1, stored.normalType, stored.views[1].count);
+  if (stored.normalType == kByte) json.key("normalized").raw("true");
+  json.key("type").string("VEC3").raw("}");
   const View& indices = stored.views[2];
-  const int indexType = indices.stride == 2 ? kUnsignedShort : kUnsignedInt;
-  model.accessors.push_back(accessor(2, indexType, indices.count, TINYGLTF_TYPE_SCALAR));
-  if (stored.views.size() > 3) model.accessors.push_back(accessor(3, kFloat, stored.views[3].count, TINYGLTF_TYPE_VEC2));
-}
-
-// The views as a reader sees them: in buffer 0, or under meshopt in the placeholder buffer 1.
-void addBufferViews(const Stored& stored, bool compressed, tinygltf::Model& model) {
-  size_t offset = 0;
-  for (const View& view : stored.views) {
-    tinygltf::BufferView bufferView;
-    bufferView.buffer = compressed ? 1 : 0;
-    bufferView.byteLength = view.size, bufferView.byteOffset = offset, bufferView.target = view.target;
-    // Vertex attributes name their stride (quantized ones are padded past their element).
-    if (view.target == kArrayBuffer) bufferView.byteStride = view.stride;
-    model.bufferViews.push_back(std::move(bufferView));
-    offset += padded(view.size);
+  writeAccessor(json, 2, indices.stride == 2 ? kUnsignedShort : kUnsignedInt, indices.count);
+  json.key("type").string("SCALAR").raw("}");
+  if (stored.views.size() > 3) {
+    writeAccessor(json, 3, kFloat, stored.views[3].count);
+    json.key("type").string("VEC2").raw("}");
   }
+  json.raw("]");
 }
 
-// One mesh whose primitive reads positions, normals and indices from three views (and texture
-// coordinates from a fourth), under one node in one scene.
-void addMeshAndNode(const Stored& stored, const GlbOptions& options, tinygltf::Model& model) {
+void writeBufferViews(const Stored& stored, bool compressed, size_t binBytes, JsonChunk& json) {
+  json.key("bufferViews").raw("[");
+  size_t binOffset = 0, fallbackOffset = 0;
+  for (const View& view : stored.views) {
+    json.item().raw("{").key("buffer").number(size_t(compressed ? 1 : 0)).key("byteLength").number(view.size);
+    json.key("byteOffset").number(compressed ? fallbackOffset : binOffset);
+    // Vertex attributes name their stride (quantized ones are padded past their element).
+    if (view.target == kArrayBuffer) json.key("byteStride").number(view.stride);
+    if (compressed) {
+      fallbackOffset += padded(view.size);
+      json.key("extensions").raw("{").key(kMeshopt).raw("{").key("buffer").number(size_t(0));
+      json.key("byteLength").number(view.compressed.size()).key("byteOffset").number(binOffset);
+      json.key("byteStride").number(view.stride).key("count").number(view.count);
+      json.key("mode").string(view.target == kArrayBuffer ? "ATTRIBUTES" : "TRIANGLES").raw("}}");
+      binOffset += padded(view.compressed.size());
+    } else {
+      binOffset += padded(view.size);
+    }
+    json.key("target").number(view.target).raw("}");
+  }
+  json.raw("]").key("buffers").raw("[{").key("byteLength").number(binBytes).raw("}");
+  if (compressed) {
+    json.raw(",{").key("byteLength").number(fallbackOffset);
+    json.key("extensions").raw("{").key(kMeshopt).raw("{").key("fallback").raw("true}}}");
+  }
+  json.raw("]");
+}
+
+// The JSON chunk: one scene, one node (carrying the quantization grid's translation and scale),
+// one mesh whose primitive reads positions, normals and indices from three views (and texture
+// coordinates from a fourth).
+std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
   const std::string& name = options.description.sourceName;
-  tinygltf::Primitive primitive;
-  primitive.attributes = {{"POSITION", 0}, {"NORMAL", 1}};
-  if (stored.views.size() > 3) primitive.attributes["TEXCOORD_0"] = 3;
-  primitive.indices = 2, primitive.mode = kTriangles;
-  model.meshes.emplace_back().name = name;
-  model.meshes.back().primitives.push_back(std::move(primitive));
-  tinygltf::Node& node = model.nodes.emplace_back();
-  node.mesh = 0, node.name = name;
+  const bool compressed = options.encoding == GlbEncoding::kMeshopt;
+  JsonChunk json;
+  json.raw("{");
+  writeAccessors(stored, json);
+  json.key("asset").raw("{").key("extras");
+  writeExtras(options, json);
+  json.key("generator").string(std::string("Tessera ") + kVersion).key("version").string("2.0").raw("}");
+  writeBufferViews(stored, compressed, binBytes, json);
+  std::vector<const char*> extensions;
+  if (options.encoding != GlbEncoding::kFloat) extensions.push_back(kQuantization);
+  if (compressed) extensions.push_back(kMeshopt);
+  for (const char* list : {"extensionsRequired", "extensionsUsed"}) {
+    if (extensions.empty()) break;
+    json.key(list).raw("[");
+    for (const char* extension : extensions) json.item().string(extension);
+    json.raw("]");
+  }
+  json.key("meshes").raw("[{").key("name").string(name).key("primitives").raw("[{");
+  json.key("attributes").raw("{").key("NORMAL").number(1).key("POSITION").number(0);
+  if (stored.views.size() > 3) json.key("TEXCOORD_0").number(3);
+  json.raw("}");
+  json.key("indices").number(2).key("mode").number(kTriangles).raw("}]}]");
+  json.key("nodes").raw("[{").key("mesh").number(0).key("name").string(name);
   // The node carries the mesh's origin (far from the origin, the positions are relative to it)
   // and the quantization grid's centre, relative to that origin, in double precision.
   const Vec3d& origin = stored.origin;
   if (options.positions) {
     const PositionQuantization& q = *options.positions;
-    node.scale = {q.step, q.step, q.step};
-    node.translation = {origin.x + q.center.x, origin.y + q.center.y, origin.z + q.center.z};
+    json.key("scale").vector({q.step, q.step, q.step});
+    json.key("translation").vector({origin.x + q.center.x, origin.y + q.center.y, origin.z + q.center.z});
   } else if (origin.x != 0 || origin.y != 0 || origin.z != 0) {
-    node.translation = {origin.x, origin.y, origin.z};
+    json.key("translation").vector({origin.x, origin.y, origin.z});
   }
-  model.scenes.emplace_back().nodes = {0};
-  model.defaultScene = 0;
-}
-
-tinygltf::Model glbModel(const Stored& stored, const GlbOptions& options) {
-  tinygltf::Model model;
-  addAccessors(stored, model);
-  model.asset.generator = std::string("Tessera ") + kVersion;
-  model.asset.extras = glbExtras(options);
-  addBufferViews(stored, options.encoding == GlbEncoding::kMeshopt, model);
-  if (options.encoding != GlbEncoding::kFloat) model.extensionsUsed.push_back(kQuantization);
-  if (options.encoding == GlbEncoding::kMeshopt) model.extensionsUsed.push_back(kMeshopt);
-  model.extensionsRequired = model.extensionsUsed;
-  addMeshAndNode(stored, options, model);
-  return model;
-}
-
-// Under meshopt: each view's compressed bytes in buffer 0 (EXT_meshopt_compression), and the
-// placeholder buffer 1 that the views themselves lie in.
-std::string withMeshoptMembers(const std::string& text, const Stored& stored, size_t binBytes) {
-  nlohmann::json document = nlohmann::json::parse(text);
-  size_t binOffset = 0, fallbackBytes = 0;
-  for (size_t k = 0; k < stored.views.size(); ++k) {
-    const View& view = stored.views[k];
-    document["bufferViews"][k]["extensions"][kMeshopt] = {
-        {"buffer", 0}, {"byteLength", view.compressed.size()}, {"byteOffset", binOffset},
-        {"byteStride", view.stride}, {"count", view.count},
-        {"mode", view.target == kArrayBuffer ? "ATTRIBUTES" : "TRIANGLES"}};
-    binOffset += padded(view.compressed.size());
-    fallbackBytes += padded(view.size);
-  }
-  document["buffers"] = {{{"byteLength", binBytes}},
-                         {{"byteLength", fallbackBytes}, {"extensions", {{kMeshopt, {{"fallback", true}}}}}}};
-  return document.dump();
-}
-
-std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
-  const tinygltf::Model model = glbModel(stored, options);
-  std::ostringstream stream;
-  tinygltf::TinyGLTF().WriteGltfSceneToStream(&model, stream, false, false);
-  std::string text = std::move(stream).str();
-  if (options.encoding == GlbEncoding::kMeshopt) return withMeshoptMembers(text, stored, binBytes);
-  // Its text ends in "}\n": buffer 0, the BIN chunk, becomes its last member.
-  text.resize(text.rfind('}'));
-  return text + ",\"buffers\":[{\"byteLength\":" + std::to_string(binBytes) + "}]}";
+  json.raw("}]").key("scene").number(0).key("scenes").raw("[{").key("nodes").raw("[0]}]}");
+  return json.take();
 }
 
 void put32(uint8_t* at, uint32_t value) { std::memcpy(at, &value, 4); }
