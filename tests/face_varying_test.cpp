@@ -20,6 +20,7 @@
 #include "core/mesh/subdivision_rules.h"
 #include "core/pipeline/tessellate.h"
 #include "reference/bfr_reference.h"
+#include "tests/support/glb_reader.h"
 #include "tests/support/gltf_validator.h"
 #include "reference/models.h"
 
@@ -273,7 +274,7 @@ TEST(FaceVarying, GlbCarriesTexcoordsInEveryEncoding) {
     options.encoding = encoding;
     options.description.sourceName = "prism";
     const std::vector<uint8_t> glb = writeGlb(m, options);
-    const TriangleMesh back = readGlb(glb);
+    const TriangleMesh back = testing::readGlb(glb);
     ASSERT_EQ(back.indices.size(), m.indices.size());
     ASSERT_EQ(back.uvs.size(), 2 * back.positions.size());
     // meshopt reorders triangles: compare the multiset of corner UVs.

@@ -16,6 +16,7 @@
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
+#include "tests/support/glb_reader.h"
 #include "reference/limit_distance.h"
 #include "reference/limit_surface.h"
 #include "reference/models.h"
@@ -108,7 +109,7 @@ TEST(FarFromOrigin, GlbNodeCarriesTheOrigin) {
   EXPECT_EQ(t[1].get<double>(), far.origin.y);
   EXPECT_EQ(t[2].get<double>(), far.origin.z);
   // What a viewer sees (float positions through the translation) lies where the model is.
-  const TriangleMesh seen = readGlb(glb);
+  const TriangleMesh seen = testing::readGlb(glb);
   EXPECT_NEAR(seen.positions[0].x, m.positions[0].x + far.origin.x, 0.2);
 }
 

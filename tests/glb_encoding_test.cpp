@@ -17,6 +17,7 @@
 #include "core/mesh/obj_reader.h"
 #include "core/base/sha256.h"
 #include "core/base/version.h"
+#include "tests/support/glb_reader.h"
 #include "tests/support/gltf_validator.h"
 #include "reference/limit_distance.h"
 #include "reference/models.h"
@@ -81,7 +82,7 @@ TEST(GlbEncoding, EveryEncodingDecodesWithinToleranceClosedAndValid) {
     ASSERT_TRUE(validation.ran) << validation.report;
     EXPECT_TRUE(validation.clean()) << validation.report;
 
-    const TriangleMesh back = readGlb(encoded.glb);
+    const TriangleMesh back = testing::readGlb(encoded.glb);
     EXPECT_EQ(int64_t(back.triangleCount()), encoded.summary.triangles);
     EXPECT_EQ(unpairedEdges(back), 0u);
     const testing::LimitDistanceReport report =

@@ -1,6 +1,6 @@
-// GLB output: index width chosen by vertex count, exact round trip through readGlb, files that
-// Khronos glTF-Validator accepts on both sides of the 16-bit limit, and clear refusals of GLBs
-// readGlb cannot trust.
+// GLB output: index width chosen by vertex count, exact round trip through readGlb (tinygltf,
+// tests/support/glb_reader.h), files that Khronos glTF-Validator accepts on both sides of the
+// 16-bit limit, and clear refusals of GLBs readGlb cannot trust.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -8,6 +8,7 @@
 
 #include "core/base/error.h"
 #include "core/output/glb_writer.h"
+#include "tests/support/glb_reader.h"
 #include "tests/support/gltf_validator.h"
 
 namespace tessera {
@@ -52,7 +53,7 @@ TEST(GlbWriter, UsesSixteenBitIndicesUpTo65535Vertices) {
     TriangleMesh mesh = strip(vertices);
     std::vector<uint8_t> glb = writeGlb(mesh, {.description = {.sourceName = "strip"}});
     EXPECT_NE(jsonChunk(glb).find("\"componentType\":5123"), std::string::npos) << vertices;
-    expectSameMesh(readGlb(glb), mesh);
+    expectSameMesh(testing::readGlb(glb), mesh);
   }
 }
 
@@ -60,7 +61,7 @@ TEST(GlbWriter, UsesThirtyTwoBitIndicesBeyond) {
   TriangleMesh mesh = strip(65536);
   std::vector<uint8_t> glb = writeGlb(mesh, {.description = {.sourceName = "strip"}});
   EXPECT_NE(jsonChunk(glb).find("\"componentType\":5125"), std::string::npos);
-  expectSameMesh(readGlb(glb), mesh);
+  expectSameMesh(testing::readGlb(glb), mesh);
 }
 
 TEST(GlbWriter, KhronosValidatorAcceptsBothIndexWidths) {
@@ -76,7 +77,7 @@ TEST(GlbWriter, KhronosValidatorAcceptsBothIndexWidths) {
 
 void expectRefused(const std::vector<uint8_t>& glb, const std::string& message) {
   try {
-    readGlb(glb);
+    testing::readGlb(glb);
     FAIL() << "expected a refusal mentioning \"" << message << "\"";
   } catch (const TesseraError& error) {
     EXPECT_NE(std::string(error.what()).find(message), std::string::npos) << error.what();

@@ -27,6 +27,7 @@
 #include "core/pipeline/tessellate.h"
 #include "reference/bfr_reference.h"
 #include "reference/far_patch_reference.h"
+#include "tests/support/glb_reader.h"
 #include "tests/support/gltf_validator.h"
 #include "reference/limit_distance.h"
 #include "tests/support/mesh_equality.h"
@@ -466,7 +467,7 @@ TEST(Tessellation, WritesGlbThatKhronosValidatorAccepts) {
     PatchSet set = buildPatchSet(mesh);
     TessellationResult result = tessellateAt(mesh, set, 1e-3);
     std::vector<uint8_t> glb = writeGlb(result.mesh, {.description = {.sourceName = name}});
-    TriangleMesh back = readGlb(glb);
+    TriangleMesh back = testing::readGlb(glb);
     ASSERT_EQ(back.positions.size(), result.mesh.positions.size());
     ASSERT_EQ(back.indices, result.mesh.indices);
     for (size_t v = 0; v < back.positions.size(); ++v) {

@@ -9,12 +9,14 @@ packages=(
   build-essential cmake ninja-build pkg-config clang-14 libclang-rt-14-dev clang-format
   # geometry core
   libosd-dev nlohmann-json3-dev libtbb-dev
-  # measured distances to the limit surface (tests/support, tools/oracle_rates)
+  # measured distances to the limit surface (reference/, tools/oracle_rates)
   libnanoflann-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # GLB compression (EXT_meshopt_compression)
   libmeshoptimizer-dev
+  # glTF documents: the tests read GLBs back through tinygltf (tests/support/glb_reader.h)
+  libtinygltf-dev
   # command line and logs
   libcli11-dev libspdlog-dev libfmt-dev
   # service

@@ -42,9 +42,4 @@ struct GlbOptions {
 // Throws TesseraError (kInvalidInput) for a mesh it cannot write, kLimitExceeded past 4 GiB.
 std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& options);
 
-// Reads back positions (as a viewer dequantizes them), normals, UVs and indices of a GLB written by
-// writeGlb in any encoding (for tests and tools). Throws TesseraError on anything it does not
-// understand.
-TriangleMesh readGlb(const std::vector<uint8_t>& bytes);
-
 }  // namespace tessera
