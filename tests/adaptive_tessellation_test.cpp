@@ -257,10 +257,11 @@ TEST(AdaptiveTessellation, PairBoundIsGeometric) {
       return p;
     };
     const Vec3d c[4] = {at(0, 0), at(1, 0), at(1, 1), at(0, 1)};
-    const double bound = node.pairBound;
+    const NodePair stored = pairOf(tree, set, root.node);
+    const double bound = stored.pair;
     double parametric = 0;
     for (int diagonal = 0; diagonal < 2; ++diagonal) {
-      if (node.pairDiagonal != 0 && node.pairDiagonal != 1 + diagonal) continue;
+      if (stored.diagonal != 0 && stored.diagonal != 1 + diagonal) continue;
       // Triangles (c0, c1, c2), (c0, c2, c3) or (c0, c1, c3), (c1, c2, c3), as functions of (u, v).
       auto pair = [&](double u, double v) {
         if (diagonal == 0) return u >= v ? c[0] + (c[1] - c[0]) * u + (c[2] - c[1]) * v : c[0] + (c[2] - c[3]) * u + (c[3] - c[0]) * v;

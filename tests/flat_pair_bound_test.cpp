@@ -163,7 +163,7 @@ TEST(FlatPairBound, PairsAndSidePointTriangulationsAreWithinTheBoundBothWays) {
     EXPECT_LE(measured, flat->anyTriangulation + slack) << "face " << root.baseFace;
     worstShare = std::max(worstShare, measured / flat->anyTriangulation);
     ++checked;
-    if (std::abs(node.pairBound - flat->pair) > 1e-6 * flat->pair) continue;
+    if (std::abs(pairOf(tree, rook().set, root.node).pair - flat->pair) > 1e-6 * flat->pair) continue;
     ++taken;
     // At equal parameters the pair is farther from the surface than the bound: the bound is not
     // a parametric one (the slivers beside the rook's semi-sharp creases).
@@ -194,11 +194,12 @@ TEST(FlatPairBound, StoredBoundsHoldForEveryRootsSideTriangulation) {
   for (const SurfaceRoot& root : tree.roots) {
     if (root.node == kNoNode) continue;
     const SurfaceNode& node = tree.nodes[root.node];
-    const double bound = node.pairBound + *std::max_element(node.sideBow, node.sideBow + 4);
+    const NodePair stored = pairOf(tree, rook().set, root.node);
+    const double bound = stored.pair + *std::max_element(stored.bows, stored.bows + 4);
     if (bound > 1e-2 * surface.diagonal()) continue;
     const int domain = surface.domainOf(root.baseFace, root.subFace);
     const double measured =
-        twoSidedDistance(surface, domain, sideFan(surface, domain, node.pairDiagonal == 2 ? 1 : 0));
+        twoSidedDistance(surface, domain, sideFan(surface, domain, stored.diagonal == 2 ? 1 : 0));
     EXPECT_LE(measured, bound + slack) << "face " << root.baseFace << " sub-face " << root.subFace;
     worstShare = std::max(worstShare, measured / bound);
     ++checked;

@@ -112,6 +112,7 @@ class Planner {
     double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
     uint8_t diagonal = 0;  // the diagonal pair and bows need (SurfaceNode::pairDiagonal)
     bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
+    bool pairTight = true;  // an exact leaf's pair is tightened when it may serve (leaf_pairs.h)
     bool onePiece = false;  // the square lies in one bicubic piece (a leaf or below one)
     bool edgesKnown = false;  // below a leaf, `edges` is computed when a grid may use it
     EdgeCurvature edges;      // below a leaf: §2a's data of the net (leaves keep theirs in the tree)
@@ -120,6 +121,7 @@ class Planner {
     double size() const { return exp2i(-level); }
   };
   void fillReal(const NodeSquare& n, Candidate& c) const;
+  static void setPair(Candidate& c, const NodePair& pair);
   Candidate realCandidate(const NodeSquare& n) const;
   // Quadrant q of `parent`, whose net `c.net` holds already (filled in place: a candidate is
   // ~600 bytes, and copying four per split was 4 % of a small request's instructions).
@@ -160,12 +162,17 @@ void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
   c.m = node.evCorners ? Curvature{kInfinity, kInfinity, kInfinity} : node.bound();
   c.standIn = node.standInBound;
   c.gm = node.standInCurvatureBound();
-  c.pair = node.pairBound;
-  std::copy(node.sideBow, node.sideBow + 4, c.bows);
-  c.diagonal = node.pairDiagonal;
+  setPair(c, node.tightensOnRead() && tree_.leafPairs.known(n.node) ? tree_.leafPairs.cached(n.node) : node.pairFields());
+  c.pairTight = !node.tightensOnRead() || tree_.leafPairs.known(n.node);
   c.onePiece = node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
+}
+
+void Planner::setPair(Candidate& c, const NodePair& pair) {
+  c.pair = pair.pair;
+  std::copy(pair.bows, pair.bows + 4, c.bows);
+  c.diagonal = pair.diagonal;
 }
 
 Planner::Candidate Planner::realCandidate(const NodeSquare& n) const {
@@ -183,6 +190,7 @@ void Planner::fillQuadrant(const Candidate& parent, int q, Candidate& c) const {
   c.standIn = 0;
   c.gm = c.m;
   c.pairKnown = false;
+  c.pairTight = true;  // its pair is its own (pairKnown), not the leaf's
   c.onePiece = true;
   // The box serves only a camera's depth (epsilonOf).
   if (!tolerance_.pixelAccurate()) return;
@@ -306,6 +314,13 @@ bool Planner::touchesPinchedCorner(const Candidate& c) const {
 // Whether the (1, 1) grid's pair bound can be within ε, computing it below a leaf only when the
 // gap at the centre (a lower bound of it) leaves room, and the side bows only when it is.
 bool Planner::pairMayServe(Candidate& c, double epsilon) const {
+  if (!c.pairTight) {
+    // Tightening only lowers the pair, and never below the leaf's lower bound: where that is
+    // above ε the pair cannot serve, tightened or not.
+    if (c.pair > epsilon && !tree_.leafPairs.mayReach(c.real.node, epsilon)) return false;
+    setPair(c, pairOf(tree_, patches_, c.real.node));
+    c.pairTight = true;
+  }
   if (!c.pairKnown) {
     if (centreGap(c.net) > epsilon) return false;
     c.pair = exactPairBound(c.net);

@@ -312,39 +312,12 @@ void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) c
   for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp((fit.r + bows[side]) * (1 + 1e-9));
 }
 
-// An exact piece's pair through a graded diagonal map (§3c), kept where it is smaller than §3's at
-// equal parameters. Only where that could matter: the equal-parameter bound is well above the
-// lower bound every pair bound has, and above the finest tolerance the tree serves.
-void TreeBuilder::gradeLeafPair(SurfaceNode& node, const BezierNet& net) const {
-  if (!(node.pairBound > kGradedFloor * floor_) || !(node.pairBound > kGradedSlack * pairLowerBound(net))) return;
-  // Worth its cost only where it can take off a fifth at least.
-  const std::optional<PairBounds> graded = gradedPairBounds(net, 0.8 * node.pairBound);
-  if (!graded) return;
-  const double pair = graded->pair * (1 + 1e-9);
-  if (!(pair < node.pairBound)) return;
-  node.pairBound = roundUp(pair);
-  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(graded->bows[side] * (1 + 1e-9));
-  node.pairDiagonal = graded->diagonal;
-}
-
 void keepFlatPair(SurfaceNode& node, const FlatPairBound& flat, const Vec3d corners[4]) {
   PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
   if (!keepFlatBound(flat, corners, bounds)) return;
   node.pairBound = roundUp(bounds.pair);
   for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
   node.pairDiagonal = bounds.diagonal;
-}
-
-// A nearly flat piece's pair by projection onto one plane (§3d), kept where it is smaller.
-void TreeBuilder::flattenLeafPair(SurfaceNode& node, const BezierNet& net) const {
-  const std::optional<FlatPairBound> flat = flatPairBound(net);
-  const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
-  if (flat) keepFlatPair(node, *flat, corners);
-}
-
-void TreeBuilder::tightenLeafPair(SurfaceNode& node, const BezierNet& net) const {
-  gradeLeafPair(node, net);
-  flattenLeafPair(node, net);
 }
 
 // Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and
@@ -356,7 +329,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
     tree_.edgeCurvature[index] = edgeCurvature(fit.g);
     for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
     setStandIn(tree_.nodes[index], fit, level);
-    tightenLeafPair(tree_.nodes[index], fit.g);
+    tree_.leafPairs.setLowerBound(index, pairLowerBound(fit.g));
     return fit;
   }
   const ChainStep* step = chainOf_[index] >= 0 ? &chainSteps_[chainOf_[index]] : nullptr;
@@ -398,6 +371,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
 SurfaceTree TreeBuilder::build() {
   const double diagonal = length(Vec3d(patches_.boundsMax) - Vec3d(patches_.boundsMin));
   floor_ = kChainFloor * (diagonal > 0 ? diagonal : 1.0);
+  tree_.floor = floor_;
   makeRoots();
   refineRings();
   std::vector<std::vector<Item>> items = collectItems();
@@ -416,6 +390,7 @@ SurfaceTree TreeBuilder::build() {
   pairReparam_.assign(tree_.nodes.size(), 0);
   bowReparam_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   pairDiagonal_.assign(tree_.nodes.size(), 0);
+  tree_.leafPairs = LeafPairs(tree_.nodes.size());
   bowDiagonal_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   // Roots are independent: every slot they write was allocated above.
   tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
@@ -435,7 +410,7 @@ size_t SurfaceTree::bytes() const {
   return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
          nodes.size() * sizeof(SurfaceNode) + edgeCurvature.size() * sizeof(EdgeCurvature) + fasLeaves.size() * sizeof(FasLeaf) +
          evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + refinedOffsets.size() * sizeof(size_t) +
-         refinedLevels.size() * sizeof(float);
+         refinedLevels.size() * sizeof(float) + leafPairs.bytes();
 }
 
 SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint) {

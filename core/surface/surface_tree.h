@@ -18,6 +18,7 @@
 #include "core/math/bezier_net.h"
 #include "core/mesh/control_mesh.h"
 #include "core/rings/patch_set.h"
+#include "core/surface/leaf_pairs.h"
 
 namespace tessera {
 
@@ -62,6 +63,12 @@ struct SurfaceNode {
     return {standInCurvature[0], standInCurvature[1], standInCurvature[2]};
   }
   bool isLeaf() const { return firstChild == kNoNode; }
+  // An exact leaf's pair fields here are at equal parameters: read its final ones through
+  // pairOf (leaf_pairs.h), which tightens them on first use.
+  bool tightensOnRead() const { return kind == NodeKind::kRegularLeaf || kind == NodeKind::kFasLeaf; }
+  NodePair pairFields() const {
+    return {pairBound, {sideBow[0], sideBow[1], sideBow[2], sideBow[3]}, pairDiagonal};
+  }
 };
 
 // A FAS patch: sector patch k (A, B, C) of ring `ring`'s sector `sector` at FAS level `level`.
@@ -99,6 +106,8 @@ struct SurfaceTree {
   std::vector<uint8_t> chainDepth;
   std::vector<size_t> refinedOffsets;
   std::vector<float> refinedLevels;
+  double floor = 0;  // kChainFloor times the bounding-box diagonal
+  LeafPairs leafPairs;  // the exact leaves' tightened pair bounds, filled as requests read them
 
   int rootOf(int baseFace, int subFace) const { return faceFirstRoot[baseFace] + (subFace < 0 ? 0 : subFace); }
   const float* refinedAtLevel(const RingSet& rings, size_t r, int level) const {

@@ -24,12 +24,6 @@ constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // diagonal) keep it: finer than any tile at the tolerances asked for, they are many (the deep
 // levels of every EV chain) and the diagonal maps' bound is the costly one (§3b).
 constexpr double kDiagonalFloor = 100;
-// A leaf's pair is bounded through a graded map (§3c) where its bound at equal parameters is above
-// kGradedFloor times the chain floor (10⁻⁴ of the diagonal, the finest relative tolerance the
-// benchmarks ask) and more than kGradedSlack times the lower bound every pair bound has: elsewhere
-// the map costs more than it can take off.
-constexpr double kGradedFloor = 1000;
-constexpr double kGradedSlack = 2;
 // How many levels above a leaf its net is bounded against each ancestor's diagonal map; farther
 // up, the node kDiagonalReach + 1 levels below the ancestor stands for it (standForLeaves).
 constexpr int kDiagonalReach = 5;
@@ -88,9 +82,6 @@ class TreeBuilder {
   NodeFit fitChildren(const NodeFit children[4]) const;
   void setBox(uint32_t node, const ChainStep* step);
   void setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
-  void tightenLeafPair(SurfaceNode& node, const BezierNet& net) const;
-  void gradeLeafPair(SurfaceNode& node, const BezierNet& net) const;
-  void flattenLeafPair(SurfaceNode& node, const BezierNet& net) const;
   struct Ancestor {
     uint32_t node;
     int level;
