@@ -112,7 +112,7 @@ class Planner {
     double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
     uint8_t diagonal = 0;  // the diagonal pair and bows need (SurfaceNode::pairDiagonal)
     bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
-    bool pairTight = true;  // an exact leaf's pair is tightened when it may serve (leaf_pairs.h)
+    bool pairTight = true;  // a deferred pair is tightened when it may serve (pair_tightening.h)
     bool onePiece = false;  // the square lies in one bicubic piece (a leaf or below one)
     bool edgesKnown = false;  // below a leaf, `edges` is computed when a grid may use it
     EdgeCurvature edges;      // below a leaf: §2a's data of the net (leaves keep theirs in the tree)
@@ -162,8 +162,9 @@ void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
   c.m = node.evCorners ? Curvature{kInfinity, kInfinity, kInfinity} : node.bound();
   c.standIn = node.standInBound;
   c.gm = node.standInCurvatureBound();
-  setPair(c, node.tightensOnRead() && tree_.leafPairs.known(n.node) ? tree_.leafPairs.cached(n.node) : node.pairFields());
-  c.pairTight = !node.tightensOnRead() || tree_.leafPairs.known(n.node);
+  const PairTightening& tightening = tree_.tightening;
+  c.pairTight = tightening.deferred(n.node) == PairTightening::Deferred::kNone || tightening.known(n.node);
+  setPair(c, c.pairTight ? pairOf(tree_, patches_, n.node) : node.pairFields());
   c.onePiece = node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
@@ -317,7 +318,7 @@ bool Planner::pairMayServe(Candidate& c, double epsilon) const {
   if (!c.pairTight) {
     // Tightening only lowers the pair, and never below the leaf's lower bound: where that is
     // above ε the pair cannot serve, tightened or not.
-    if (c.pair > epsilon && !tree_.leafPairs.mayReach(c.real.node, epsilon)) return false;
+    if (c.pair > epsilon && !tree_.tightening.mayReach(c.real.node, epsilon)) return false;
     setPair(c, pairOf(tree_, patches_, c.real.node));
     c.pairTight = true;
   }

@@ -108,8 +108,11 @@ std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below) {
 }
 
 double pairLowerBound(const BezierNet& net) {
-  const Vec3d centre = at(net, 0.5, 0.5);
   const Vec3d c[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
+  return pairLowerBound(c, at(net, 0.5, 0.5));
+}
+
+double pairLowerBound(const Vec3d c[4], const Vec3d& centre) {
   // Distance from the centre to the plane through three corners, at most its distance to their
   // triangle (0 for a degenerate triangle: no plane to measure from).
   auto plane = [&](int a, int b, int d) {

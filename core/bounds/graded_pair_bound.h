@@ -27,5 +27,7 @@ std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below);
 // A lower bound of every pair bound of the net, at equal parameters or through any map: the distance
 // of f(½, ½) from the nearer of the pair's planes, for the diagonal that makes it smaller.
 double pairLowerBound(const BezierNet& net);
+// The same from the surface's corners and its value at the centre (a square of several pieces).
+double pairLowerBound(const Vec3d corners[4], const Vec3d& centre);
 
 }  // namespace tessera

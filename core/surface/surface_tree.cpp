@@ -8,7 +8,6 @@
 #include "core/base/error.h"
 #include "core/bounds/depth_bound.h"
 #include "core/bounds/depth_tables.h"
-#include "core/bounds/flat_pair_bound.h"
 #include "core/bounds/graded_pair_bound.h"
 #include "core/rings/fas.h"
 #include "core/rings/innermost_patch.h"
@@ -312,14 +311,6 @@ void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) c
   for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp((fit.r + bows[side]) * (1 + 1e-9));
 }
 
-void keepFlatPair(SurfaceNode& node, const FlatPairBound& flat, const Vec3d corners[4]) {
-  PairBounds bounds{node.pairBound, {node.sideBow[0], node.sideBow[1], node.sideBow[2], node.sideBow[3]}, node.pairDiagonal};
-  if (!keepFlatBound(flat, corners, bounds)) return;
-  node.pairBound = roundUp(bounds.pair);
-  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp(bounds.bows[side]);
-  node.pairDiagonal = bounds.diagonal;
-}
-
 // Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and
 // the fit of their children; the deepest keeps the former (and its net, for evaluation).
 NodeFit TreeBuilder::summarize(uint32_t index, int level) {
@@ -329,7 +320,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
     tree_.edgeCurvature[index] = edgeCurvature(fit.g);
     for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
     setStandIn(tree_.nodes[index], fit, level);
-    tree_.leafPairs.setLowerBound(index, pairLowerBound(fit.g));
+    tree_.tightening.defer(index, PairTightening::Deferred::kLeaf, pairLowerBound(fit.g));
     return fit;
   }
   const ChainStep* step = chainOf_[index] >= 0 ? &chainSteps_[chainOf_[index]] : nullptr;
@@ -389,9 +380,7 @@ SurfaceTree TreeBuilder::build() {
   bow_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   pairReparam_.assign(tree_.nodes.size(), 0);
   bowReparam_.assign(tree_.nodes.size(), {0, 0, 0, 0});
-  pairDiagonal_.assign(tree_.nodes.size(), 0);
-  tree_.leafPairs = LeafPairs(tree_.nodes.size());
-  bowDiagonal_.assign(tree_.nodes.size(), {0, 0, 0, 0});
+  tree_.tightening = PairTightening(tree_.nodes.size());
   // Roots are independent: every slot they write was allocated above.
   tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
     const uint32_t root = tree_.roots[r].node;
@@ -401,6 +390,10 @@ SurfaceTree TreeBuilder::build() {
     std::vector<Ancestor> path;
     directPairBounds(root, 0, 0, 0, path);
   });
+  tree_.tightening.corners = std::move(corners_);
+  tree_.tightening.ownPair = std::move(pair_);
+  tree_.tightening.ownBows = std::move(bow_);
+  tree_.tightening.floor = floor_;
   return std::move(tree_);
 }
 
@@ -410,7 +403,7 @@ size_t SurfaceTree::bytes() const {
   return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
          nodes.size() * sizeof(SurfaceNode) + edgeCurvature.size() * sizeof(EdgeCurvature) + fasLeaves.size() * sizeof(FasLeaf) +
          evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + refinedOffsets.size() * sizeof(size_t) +
-         refinedLevels.size() * sizeof(float) + leafPairs.bytes();
+         refinedLevels.size() * sizeof(float) + tightening.bytes();
 }
 
 SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint) {

@@ -18,7 +18,7 @@
 #include "core/math/bezier_net.h"
 #include "core/mesh/control_mesh.h"
 #include "core/rings/patch_set.h"
-#include "core/surface/leaf_pairs.h"
+#include "core/surface/pair_tightening.h"
 
 namespace tessera {
 
@@ -63,9 +63,8 @@ struct SurfaceNode {
     return {standInCurvature[0], standInCurvature[1], standInCurvature[2]};
   }
   bool isLeaf() const { return firstChild == kNoNode; }
-  // An exact leaf's pair fields here are at equal parameters: read its final ones through
-  // pairOf (leaf_pairs.h), which tightens them on first use.
-  bool tightensOnRead() const { return kind == NodeKind::kRegularLeaf || kind == NodeKind::kFasLeaf; }
+  // The pair fields as built; where the tightening is deferred (pair_tightening.h) a bound
+  // above the final one: read those through pairOf.
   NodePair pairFields() const {
     return {pairBound, {sideBow[0], sideBow[1], sideBow[2], sideBow[3]}, pairDiagonal};
   }
@@ -107,7 +106,7 @@ struct SurfaceTree {
   std::vector<size_t> refinedOffsets;
   std::vector<float> refinedLevels;
   double floor = 0;  // kChainFloor times the bounding-box diagonal
-  LeafPairs leafPairs;  // the exact leaves' tightened pair bounds, filled as requests read them
+  PairTightening tightening;  // the dearest pair bounds, computed as requests read them
 
   int rootOf(int baseFace, int subFace) const { return faceFirstRoot[baseFace] + (subFace < 0 ? 0 : subFace); }
   const float* refinedAtLevel(const RingSet& rings, size_t r, int level) const {

@@ -13,27 +13,21 @@
 #include <vector>
 
 #include "core/bounds/axis_reparameterization.h"
-#include "core/bounds/diagonal_reparameterization.h"
-#include "core/bounds/flat_pair_bound.h"
 #include "core/surface/surface_tree.h"
 
 namespace tessera::surface_tree_building {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 // Nodes whose pair bound through the stand-in is below this many chain floors (10⁻⁵ of the
-// diagonal) keep it: finer than any tile at the tolerances asked for, they are many (the deep
-// levels of every EV chain) and the diagonal maps' bound is the costly one (§3b).
+// diagonal) keep their direct bound: finer than any tile at the tolerances asked for, they are
+// many (the deep levels of every EV chain) and the diagonal maps' bound is the costly one (§3b).
 constexpr double kDiagonalFloor = 100;
-// How many levels above a leaf its net is bounded against each ancestor's diagonal map; farther
-// up, the node kDiagonalReach + 1 levels below the ancestor stands for it (standForLeaves).
+// How many levels below a node its leaves are bounded against its diagonal map; farther down,
+// the node kDiagonalReach + 1 levels below stands for them (pair_tightening.cpp).
 constexpr int kDiagonalReach = 5;
 // How many levels below a node its descendants are gathered for its flat pair bound (§3d); deeper
 // ones stand in with their corners and pair bounds.
 constexpr int kFlatReach = 3;
-
-// Keeps a flat bound (docs/ADAPTIVE.md §3d) where it beats the node's pair bound so far, with the
-// bows and diagonal that then hold.
-void keepFlatPair(SurfaceNode& node, const FlatPairBound& flat, const Vec3d corners[4]);
 
 // Rounds a bound up to the next float, so that storing it in single precision keeps it a bound.
 inline float roundUp(double value) {
@@ -87,8 +81,6 @@ class TreeBuilder {
     int level;
     uint64_t ix, iy;
     AxisMap u, v;  // the reparameterization of the geometric pair bound (§3a)
-    // The twist-free pair bound's (§3b); none where the node is finer than kDiagonalFloor.
-    std::optional<DiagonalMap> diagonal;
 
     // A descendant's square [x, x + s] × [y, y + s] in this node's units.
     void square(int level, uint64_t ix, uint64_t iy, double& x, double& y, double& s) const {
@@ -100,13 +92,8 @@ class TreeBuilder {
   void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
   void gatherAxisSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
                          AxisMapBuilder& u, AxisMapBuilder& v) const;
-  void gatherGridSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const;
-  DiagonalMap diagonalMap(uint32_t node) const;
   void leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
                             const std::vector<Ancestor>& path);
-  void standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path);
-  void gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const;
-  void flattenNodePair(uint32_t index);
   BezierNet leafNet(const SurfaceNode& node) const;
   BezierNet netOrStandIn(const SurfaceNode& node, double& r) const;
 
@@ -126,8 +113,6 @@ class TreeBuilder {
   std::vector<std::array<Vec3d, 4>> corners_;
   std::vector<double> pair_, pairReparam_;
   std::vector<std::array<double, 4>> bow_, bowReparam_;
-  std::vector<double> pairDiagonal_;
-  std::vector<std::array<double, 4>> bowDiagonal_;
   double floor_ = 0;
   // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
   // O(ring size) to compute, so computed once (a valence-n ring has n sectors): the stand-in

@@ -1,12 +1,11 @@
-// The pair bounds and side bows of the surface tree's nodes (docs/ADAPTIVE.md §3, §3a, §3b),
-// gathered leaf by leaf down each root: at equal parameters, through each node's per-axis maps and
-// through its diagonal map.
+// The direct pair bounds and side bows of the surface tree's nodes (docs/ADAPTIVE.md §3, §3a),
+// gathered leaf by leaf down each root: at equal parameters and through each node's per-axis maps.
+// The dearer ones (§3b's diagonal maps, §3c, §3d) wait for a request (pair_tightening.h).
 #include <algorithm>
 #include <bit>
 #include <optional>
 
-#include "core/bounds/diagonal_pair_bound.h"
-#include "core/bounds/flat_pair_bound.h"
+#include "core/bounds/graded_pair_bound.h"
 #include "core/math/bicubic.h"
 #include "core/math/dyadic.h"
 #include "core/surface/surface_evaluation.h"
@@ -29,7 +28,7 @@ void TreeBuilder::leafAgainstAncestors(uint32_t index, const BezierNet& net, dou
   double ownBow[4];
   const std::array<double, 4> chord = chordBows(net, own);
   for (int side = 0; side < 4; ++side) ownBow[side] = r + chord[side];
-  // The leaf's own bounds, for the ancestor it stands for in the diagonal bound.
+  // The leaf's own bounds, for the diagonal bounds of its ancestors (pair_tightening.h).
   pair_[index] = ownPair;
   std::copy(ownBow, ownBow + 4, bow_[index].begin());
   for (const Ancestor& a : path) {
@@ -63,10 +62,6 @@ void TreeBuilder::leafAgainstAncestors(uint32_t index, const BezierNet& net, dou
       against(a.u.preimage(x0), a.u.preimage(x0 + scale), a.v.preimage(y0), a.v.preimage(y0 + scale),
               pairReparam_[a.node], bowReparam_[a.node]);
     }
-    if (!a.diagonal || level - a.level > kDiagonalReach) continue;
-    const LeafOwn leaf{{own[0], own[1], own[2], own[3]}, x0, y0, scale, ownPair, {ownBow[0], ownBow[1], ownBow[2], ownBow[3]}};
-    const LazyNet whole{nullptr, 0, true, net};
-    pieceAgainstDiagonal(&whole, r, leaf, x0, y0, scale, *a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
   }
 }
 
@@ -99,71 +94,27 @@ void TreeBuilder::gatherAxisSamples(uint32_t index, int depth, uint64_t ix, uint
   }
 }
 
-// The surface at the grid points (i, j) / kCells of a node (index i + kPoints j) for its diagonal
-// maps: corners of its descendants kCells levels down, or points of a leaf above that.
-void TreeBuilder::gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const {
-  constexpr int kGridDepth = std::countr_zero(unsigned(DiagonalMap::kCells));
-  const SurfaceNode& node = tree_.nodes[index];
-  if (depth < kGridDepth && !node.isLeaf()) {
-    for (int q = 0; q < 4; ++q) {
-      gatherGridSamples(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), grid);
-    }
-    return;
-  }
-  const int span = DiagonalMap::kCells >> depth;  // grid cells along the node's side
-  const int i0 = int(ix) * span, j0 = int(iy) * span;
-  if (depth == kGridDepth) {
-    for (int c = 0; c < 4; ++c) grid[i0 + (c == 1 || c == 2) + DiagonalMap::kPoints * (j0 + (c >= 2))] = corners_[index][c];
-    return;
-  }
-  double r;
-  const BezierNet net = netOrStandIn(node, r);
-  for (int b = 0; b <= span; ++b) {
-    for (int a = 0; a <= span; ++a) {
-      grid[i0 + a + DiagonalMap::kPoints * (j0 + b)] = evaluateBezier(net.data(), double(a) / span, double(b) / span).position;
-    }
-  }
-}
-
-// The diagonal whose pair, through its map, lies nearer the surface at the grid points.
-DiagonalMap TreeBuilder::diagonalMap(uint32_t index) const {
-  Vec3d grid[DiagonalMap::kPoints * DiagonalMap::kPoints];
-  gatherGridSamples(index, 0, 0, 0, grid);
-  const Vec3d* c = corners_[index].data();
-  const DiagonalMap first(0, c, grid), second(1, c, grid);
-  return second.gridGap() < first.gridGap() ? second : first;
-}
-
 void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path) {
   const SurfaceNode& node = tree_.nodes[index];
   if (node.isLeaf()) {
     double r;
     const BezierNet net = netOrStandIn(node, r);
     leafAgainstAncestors(index, net, r, level, ix, iy, path);
-    standForLeaves(index, level, ix, iy, path);
     return;
   }
   {
     AxisMapBuilder u, v;
     gatherAxisSamples(index, 0, 0, 0, corners_[index], u, v);
-    std::optional<DiagonalMap> diagonal;
-    if (node.pairBound > kDiagonalFloor * floor_) {
-      diagonal = diagonalMap(index);
-      // Its value at the grid points starts the maximum: the cheap bounds then skip more pieces.
-      pairDiagonal_[index] = diagonal->gridGap();
-    }
-    path.push_back({index, level, ix, iy, u.build(), v.build(), diagonal});
+    path.push_back({index, level, ix, iy, u.build(), v.build()});
   }
   const bool reparam = !path.back().u.isIdentity() || !path.back().v.isIdentity();
-  // 1 + the diagonal of this node's map; 0: it has none.
-  const uint8_t diagonal = path.back().diagonal ? uint8_t(1 + path.back().diagonal->diagonal()) : 0;
   for (int q = 0; q < 4; ++q) {
     directPairBounds(node.firstChild + q, level + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), path);
   }
   path.pop_back();
   // At equal parameters or through the axis maps (§3a, whichever direct bound is smaller, each
-  // with the twist), against the stand-in's (§4); then through the diagonal map (§3b, no twist,
-  // that diagonal only) if its pair bound is smaller still, with its own bows.
+  // with the twist), against the stand-in's (§4). Where the node is coarser than kDiagonalFloor,
+  // its diagonal map (§3b) and flat projection (§3d) may take off more: deferred.
   SurfaceNode& self = tree_.nodes[index];
   const std::array<Vec3d, 4>& c = corners_[index];
   const double twist = length(c[0] - c[1] + c[2] - c[3]) / 4;
@@ -172,69 +123,14 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   if (reparam && pairReparam_[index] < pair) pair = pairReparam_[index], bows = bowReparam_[index];
   pair = std::min(double(self.pairBound), (pair + twist) * (1 + 1e-9));
   for (int side = 0; side < 4; ++side) bows[side] = std::min(double(self.sideBow[side]), bows[side] * (1 + 1e-9));
-  uint8_t kept = 0;
-  if (diagonal != 0 && pairDiagonal_[index] < pair) {
-    pair = pairDiagonal_[index] * (1 + 1e-9), kept = diagonal;
-    for (int side = 0; side < 4; ++side) bows[side] = bowDiagonal_[index][side] * (1 + 1e-9);
+  if (self.pairBound > kDiagonalFloor * floor_) {
+    // The surface's centre is the corner all four children share.
+    tree_.tightening.defer(index, PairTightening::Deferred::kInternal, pairLowerBound(c.data(), corners_[self.firstChild][2]));
+    tree_.tightening.setDirect(index, pair, bows);
   }
   self.pairBound = roundUp(pair);
   for (int side = 0; side < 4; ++side) self.sideBow[side] = roundUp(bows[side]);
-  self.pairDiagonal = kept;
-  flattenNodePair(index);
-  standForLeaves(index, level, ix, iy, path);
-}
-
-// §3d over a node of several pieces: its descendants kFlatReach levels down stand in with their
-// corners grown by their (final) pair bounds, and along the node's sides with their corners grown
-// by their bows; leaves above that with their nets (EV bottoms' stand-ins grown by r).
-void TreeBuilder::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const {
-  const SurfaceNode& node = tree_.nodes[index];
-  const uint8_t on = sidesTouched(ix, iy, depth);
-  if (!node.isLeaf() && depth < kFlatReach) {
-    for (int q = 0; q < 4; ++q) {
-      gatherFlat(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), gather);
-    }
-    return;
-  }
-  if (!node.isLeaf()) {
-    const std::array<Vec3d, 4>& c = corners_[index];
-    for (int k = 0; k < 4; ++k) {
-      gather.addPoint(c[k], node.pairBound);
-      if (!(on >> k & 1)) continue;
-      gather.addSidePoint(k, c[k], node.sideBow[k]);
-      gather.addSidePoint(k, c[(k + 1) % 4], node.sideBow[k]);
-    }
-    return;
-  }
-  double r;
-  const BezierNet net = netOrStandIn(node, r);
-  gather.addNet(net, r, on);
-}
-
-void TreeBuilder::flattenNodePair(uint32_t index) {
-  SurfaceNode& node = tree_.nodes[index];
-  if (!(node.pairBound > kDiagonalFloor * floor_)) return;
-  const Vec3d* corners = corners_[index].data();
-  FlatGather gather(corners);
-  if (!gather.valid()) return;
-  gatherFlat(index, 0, 0, 0, gather);
-  keepFlatPair(node, gather.bound(), corners);
-}
-
-// A node kDiagonalReach + 1 levels below an ancestor stands there for all its leaves in the
-// diagonal bound (§3b): its distance from its bilinear and its bows (the direct bounds at equal
-// parameters) plus the bilinear gaps at its corners, so a leaf costs the diagonal bound at most
-// kDiagonalReach ancestors, however deep the tree.
-void TreeBuilder::standForLeaves(uint32_t index, int level, uint64_t ix, uint64_t iy, const std::vector<Ancestor>& path) {
-  if (path.size() <= size_t(kDiagonalReach)) return;
-  const Ancestor& a = path[path.size() - 1 - kDiagonalReach];
-  if (!a.diagonal) return;
-  double x0, y0, scale;
-  a.square(level, ix, iy, x0, y0, scale);
-  const std::array<Vec3d, 4>& c = corners_[index];
-  const std::array<double, 4>& b = bow_[index];
-  const LeafOwn node{{c[0], c[1], c[2], c[3]}, x0, y0, scale, pair_[index], {b[0], b[1], b[2], b[3]}};
-  pieceAgainstDiagonal(nullptr, 0, node, x0, y0, scale, *a.diagonal, pairDiagonal_[a.node], bowDiagonal_[a.node]);
+  self.pairDiagonal = 0;
 }
 
 }  // namespace tessera::surface_tree_building

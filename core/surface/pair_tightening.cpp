@@ -1,0 +1,275 @@
+#include "core/surface/pair_tightening.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <optional>
+
+#include "core/bounds/diagonal_pair_bound.h"
+#include "core/bounds/diagonal_reparameterization.h"
+#include "core/bounds/flat_pair_bound.h"
+#include "core/bounds/graded_pair_bound.h"
+#include "core/math/bicubic.h"
+#include "core/math/dyadic.h"
+#include "core/surface/surface_evaluation.h"
+#include "core/surface/surface_tree.h"
+#include "core/surface/surface_tree_builder.h"
+
+namespace tessera {
+
+using surface_tree_building::kDiagonalFloor;
+using surface_tree_building::kDiagonalReach;
+using surface_tree_building::kFlatReach;
+using surface_tree_building::roundUp;
+
+PairTightening::PairTightening(size_t nodes)
+    : size_(nodes),
+      state_(std::make_unique<std::atomic<uint8_t>[]>(nodes)),
+      pairs_(std::make_unique<NodePair[]>(nodes)),
+      lowerBounds_(nodes, 0),
+      deferred_(nodes, Deferred::kNone),
+      directPair_(nodes, 0),
+      directBows_(nodes, {0, 0, 0, 0}) {}
+
+void PairTightening::defer(uint32_t node, Deferred what, double lower) {
+  deferred_[node] = what;
+  const float f = float(lower);
+  lowerBounds_[node] = double(f) > lower ? std::nextafter(f, 0.0f) : f;
+}
+
+void PairTightening::setDirect(uint32_t node, double pair, const std::array<double, 4>& bows) {
+  directPair_[node] = pair;
+  directBows_[node] = bows;
+}
+
+void PairTightening::publish(uint32_t node, const NodePair& pair) const {
+  uint8_t expected = kEmpty;
+  if (!state_[node].compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) return;
+  pairs_[node] = pair;
+  state_[node].store(kDone, std::memory_order_release);
+}
+
+size_t PairTightening::bytes() const {
+  const size_t perNode = sizeof(std::atomic<uint8_t>) + sizeof(NodePair) + sizeof(float) + sizeof(Deferred) +
+                         sizeof(double) + sizeof(std::array<double, 4>) + sizeof(std::array<Vec3d, 4>) +
+                         sizeof(double) + sizeof(std::array<double, 4>);
+  return sizeof(*this) + size_ * perNode;
+}
+
+namespace {
+
+// A leaf's pair is bounded through a graded map (§3c) where its bound at equal parameters is above
+// kGradedFloor times the chain floor (10⁻⁴ of the diagonal, the finest relative tolerance the
+// benchmarks ask) and more than kGradedSlack times the lower bound every pair bound has: elsewhere
+// the map costs more than it can take off.
+constexpr double kGradedFloor = 1000;
+constexpr double kGradedSlack = 2;
+
+// A node's tightened pair, from the tree, its patches and what the build kept.
+class Tightener {
+ public:
+  Tightener(const SurfaceTree& tree, const PatchSet& patches)
+      : tree_(tree), patches_(patches), kept_(tree.tightening) {}
+
+  NodePair leaf(uint32_t index) const;
+  NodePair internal(uint32_t index) const;
+
+ private:
+  BezierNet netOrStandIn(const SurfaceNode& node, uint32_t index, double& r) const;
+  void gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const;
+  DiagonalMap diagonalMap(uint32_t index) const;
+  void againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t iy, const DiagonalMap& map, double& pair,
+                       std::array<double, 4>& bows) const;
+  void gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const;
+  void flatten(uint32_t index, NodePair& pair) const;
+
+  const SurfaceTree& tree_;
+  const PatchSet& patches_;
+  const PairTightening& kept_;
+};
+
+// A leaf's net (r = 0), or an EV bottom's stand-in with its bound r.
+BezierNet Tightener::netOrStandIn(const SurfaceNode& node, uint32_t index, double& r) const {
+  r = 0;
+  if (node.kind != NodeKind::kEvBottom) return pieceNet(tree_, patches_, index);
+  const EvBottom& bottom = tree_.evBottoms[node.payload];
+  BezierNet g;
+  for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
+  r = node.standInBound;
+  return g;
+}
+
+// Takes a flat bound where it beats the pair so far (keepFlatBound), rounded up to floats.
+void keepFlat(const FlatPairBound& flat, const Vec3d corners[4], NodePair& pair) {
+  PairBounds bounds{pair.pair, {pair.bows[0], pair.bows[1], pair.bows[2], pair.bows[3]}, pair.diagonal};
+  if (!keepFlatBound(flat, corners, bounds)) return;
+  pair.pair = roundUp(bounds.pair);
+  for (int side = 0; side < 4; ++side) pair.bows[side] = roundUp(bounds.bows[side]);
+  pair.diagonal = bounds.diagonal;
+}
+
+// §3c, kept where smaller than §3's at equal parameters and worth its cost (it may take off a
+// fifth at least), then §3d, kept where smaller still.
+NodePair Tightener::leaf(uint32_t index) const {
+  const SurfaceNode& node = tree_.nodes[index];
+  const BezierNet net = pieceNet(tree_, patches_, index);
+  NodePair pair = node.pairFields();
+  if (pair.pair > kGradedFloor * kept_.floor && pair.pair > kGradedSlack * pairLowerBound(net)) {
+    const std::optional<PairBounds> graded = gradedPairBounds(net, 0.8 * pair.pair);
+    const double bound = graded ? graded->pair * (1 + 1e-9) : INFINITY;
+    if (bound < pair.pair) {
+      pair.pair = roundUp(bound);
+      for (int side = 0; side < 4; ++side) pair.bows[side] = roundUp(graded->bows[side] * (1 + 1e-9));
+      pair.diagonal = graded->diagonal;
+    }
+  }
+  const std::optional<FlatPairBound> flat = flatPairBound(net);
+  const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
+  if (flat) keepFlat(*flat, corners, pair);
+  return pair;
+}
+
+// The surface at the grid points (i, j) / kCells of a node (index i + kPoints j) for its diagonal
+// maps: corners of its descendants kCells levels down, or points of a leaf above that.
+void Tightener::gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const {
+  constexpr int kGridDepth = std::countr_zero(unsigned(DiagonalMap::kCells));
+  const SurfaceNode& node = tree_.nodes[index];
+  if (depth < kGridDepth && !node.isLeaf()) {
+    for (int q = 0; q < 4; ++q) {
+      gatherGridSamples(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), grid);
+    }
+    return;
+  }
+  const int span = DiagonalMap::kCells >> depth;  // grid cells along the node's side
+  const int i0 = int(ix) * span, j0 = int(iy) * span;
+  if (depth == kGridDepth) {
+    for (int c = 0; c < 4; ++c) grid[i0 + (c == 1 || c == 2) + DiagonalMap::kPoints * (j0 + (c >= 2))] = kept_.corners[index][c];
+    return;
+  }
+  double r;
+  const BezierNet net = netOrStandIn(node, index, r);
+  for (int b = 0; b <= span; ++b) {
+    for (int a = 0; a <= span; ++a) {
+      grid[i0 + a + DiagonalMap::kPoints * (j0 + b)] = evaluateBezier(net.data(), double(a) / span, double(b) / span).position;
+    }
+  }
+}
+
+// The diagonal whose pair, through its map, lies nearer the surface at the grid points.
+DiagonalMap Tightener::diagonalMap(uint32_t index) const {
+  Vec3d grid[DiagonalMap::kPoints * DiagonalMap::kPoints];
+  gatherGridSamples(index, 0, 0, 0, grid);
+  const Vec3d* c = kept_.corners[index].data();
+  const DiagonalMap first(0, c, grid), second(1, c, grid);
+  return second.gridGap() < first.gridGap() ? second : first;
+}
+
+// §3b over the pieces of a node, in the order the build met them (depth first): each leaf up to
+// kDiagonalReach levels down with its net, and each node kDiagonalReach + 1 levels down standing
+// for its leaves with its corners and direct bounds, so a leaf costs the diagonal bound at most
+// kDiagonalReach ancestors, however deep the tree. The cheap bounds skip pieces against the
+// maxima so far, which is why the order is the build's.
+void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t iy, const DiagonalMap& map,
+                                double& pair, std::array<double, 4>& bows) const {
+  const SurfaceNode& node = tree_.nodes[index];
+  const double scale = exp2i(-depth), x0 = double(ix) * scale, y0 = double(iy) * scale;
+  if (depth == kDiagonalReach + 1) {
+    const std::array<Vec3d, 4>& c = kept_.corners[index];
+    const std::array<double, 4>& b = kept_.ownBows[index];
+    const LeafOwn stand{{c[0], c[1], c[2], c[3]}, x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
+    return pieceAgainstDiagonal(nullptr, 0, stand, x0, y0, scale, map, pair, bows);
+  }
+  if (!node.isLeaf()) {
+    for (int q = 0; q < 4; ++q) {
+      againstDiagonal(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), map, pair, bows);
+    }
+    return;
+  }
+  double r;
+  const BezierNet net = netOrStandIn(node, index, r);
+  const std::array<double, 4>& b = kept_.ownBows[index];
+  const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
+                    x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
+  const LazyNet whole{nullptr, 0, true, net};
+  pieceAgainstDiagonal(&whole, r, own, x0, y0, scale, map, pair, bows);
+}
+
+// §3d over a node of several pieces: its descendants kFlatReach levels down stand in with their
+// corners grown by their direct pair bounds (not their tightened ones: those would tighten every
+// node below the first one read, and the result would depend on which requests came first), and
+// along the node's sides with their corners grown by their bows; leaves above that with their
+// nets (EV bottoms' stand-ins grown by r).
+void Tightener::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const {
+  const SurfaceNode& node = tree_.nodes[index];
+  const uint8_t on = sidesTouched(ix, iy, depth);
+  if (!node.isLeaf() && depth < kFlatReach) {
+    for (int q = 0; q < 4; ++q) {
+      gatherFlat(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), gather);
+    }
+    return;
+  }
+  if (!node.isLeaf()) {
+    const NodePair stands = node.pairFields();
+    const std::array<Vec3d, 4>& c = kept_.corners[index];
+    for (int k = 0; k < 4; ++k) {
+      gather.addPoint(c[k], stands.pair);
+      if (!(on >> k & 1)) continue;
+      gather.addSidePoint(k, c[k], stands.bows[k]);
+      gather.addSidePoint(k, c[(k + 1) % 4], stands.bows[k]);
+    }
+    return;
+  }
+  double r;
+  const BezierNet net = netOrStandIn(node, index, r);
+  gather.addNet(net, r, on);
+}
+
+void Tightener::flatten(uint32_t index, NodePair& pair) const {
+  if (!(pair.pair > kDiagonalFloor * kept_.floor)) return;
+  const Vec3d* corners = kept_.corners[index].data();
+  FlatGather gather(corners);
+  if (!gather.valid()) return;
+  gatherFlat(index, 0, 0, 0, gather);
+  keepFlat(gather.bound(), corners, pair);
+}
+
+// §3b through the node's diagonal map where its pair bound is smaller than the direct one (no
+// twist, that diagonal only, with its own bows), then §3d.
+NodePair Tightener::internal(uint32_t index) const {
+  const DiagonalMap map = diagonalMap(index);
+  // Its value at the grid points starts the maximum: the cheap bounds then skip more pieces.
+  double diagonalPair = map.gridGap();
+  std::array<double, 4> diagonalBows = {0, 0, 0, 0};
+  const SurfaceNode& node = tree_.nodes[index];
+  for (int q = 0; q < 4; ++q) {
+    againstDiagonal(node.firstChild + q, 1, uint64_t(q & 1), uint64_t(q >> 1), map, diagonalPair, diagonalBows);
+  }
+  double bound = kept_.directPair(index);
+  std::array<double, 4> bows = kept_.directBows(index);
+  uint8_t kept = 0;
+  if (diagonalPair < bound) {
+    bound = diagonalPair * (1 + 1e-9), kept = uint8_t(1 + map.diagonal());
+    for (int side = 0; side < 4; ++side) bows[side] = diagonalBows[side] * (1 + 1e-9);
+  }
+  NodePair pair;
+  pair.pair = roundUp(bound);
+  for (int side = 0; side < 4; ++side) pair.bows[side] = roundUp(bows[side]);
+  pair.diagonal = kept;
+  flatten(index, pair);
+  return pair;
+}
+
+}  // namespace
+
+NodePair pairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
+  const PairTightening& tightening = tree.tightening;
+  const PairTightening::Deferred deferred = tightening.deferred(index);
+  if (deferred == PairTightening::Deferred::kNone) return tree.nodes[index].pairFields();
+  if (tightening.known(index)) return tightening.cached(index);
+  const Tightener tightener(tree, patches);
+  const NodePair pair = deferred == PairTightening::Deferred::kLeaf ? tightener.leaf(index) : tightener.internal(index);
+  tightening.publish(index, pair);
+  return pair;
+}
+
+}  // namespace tessera
