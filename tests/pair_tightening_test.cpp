@@ -1,0 +1,94 @@
+// The pair bounds a request tightens on first read (core/surface/pair_tightening.h): the same
+// whatever order and however many threads read them, never looser than the bounds the tree was
+// built with, never below the lower bound the planner skips by, and a GLB that does not depend
+// on which requests came first.
+#include "core/surface/pair_tightening.h"
+
+#include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "core/mesh/obj_reader.h"
+#include "core/pipeline/preprocessing.h"
+#include "core/pipeline/tessellate.h"
+#include "core/surface/adaptive_surface.h"
+#include "reference/models.h"
+
+namespace tessera {
+namespace {
+
+// Semi-sharp creases, extraordinary vertices and boundaries: every kind of deferred node.
+ControlMesh cubes() { return readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_cubes_semisharp.obj"); }
+
+// The same vertices, bit for bit, and the same triangles.
+bool sameMesh(const TriangleMesh& a, const TriangleMesh& b) {
+  return a.indices == b.indices && a.positions.size() == b.positions.size() &&
+         std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3)) == 0;
+}
+
+bool samePair(const NodePair& a, const NodePair& b) {
+  return a.pair == b.pair && std::memcmp(a.bows, b.bows, sizeof a.bows) == 0 && a.diagonal == b.diagonal;
+}
+
+TEST(PairTightening, TheSameBoundsInAnyOrderAndOnManyThreads) {
+  const ControlMesh mesh = cubes();
+  const PatchSet forward = buildPatchSet(mesh), backward = buildPatchSet(mesh);
+  const SurfaceTree& a = forward.adaptive->tree;
+  const SurfaceTree& b = backward.adaptive->tree;
+  const size_t n = a.nodes.size();
+  std::vector<NodePair> inOrder(n), concurrent(n);
+  for (size_t i = 0; i < n; ++i) inOrder[i] = pairOf(a, forward, uint32_t(i));
+  tbb::parallel_for(size_t(0), n, [&](size_t k) {
+    const uint32_t i = uint32_t(n - 1 - k);
+    concurrent[i] = pairOf(b, backward, i);
+  });
+  int leaves = 0, internal = 0, tighter = 0;
+  for (size_t i = 0; i < n; ++i) {
+    ASSERT_TRUE(samePair(inOrder[i], concurrent[i])) << "node " << i;
+    const PairTightening::Deferred deferred = a.tightening.deferred(uint32_t(i));
+    leaves += deferred == PairTightening::Deferred::kLeaf;
+    internal += deferred == PairTightening::Deferred::kInternal;
+    tighter += inOrder[i].pair < a.nodes[i].pairBound;
+  }
+  EXPECT_GT(leaves, 0);
+  EXPECT_GT(internal, 0);
+  EXPECT_GT(tighter, 0);  // otherwise nothing here was tested
+}
+
+// Tightening only takes off, and never goes below the lower bound by which the planner decides
+// that a node's pair cannot serve without tightening it.
+TEST(PairTightening, NeverLooserAndNeverBelowTheLowerBound) {
+  const ControlMesh mesh = cubes();
+  const PatchSet set = buildPatchSet(mesh);
+  const SurfaceTree& tree = set.adaptive->tree;
+  for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+    const NodePair tight = pairOf(tree, set, i);
+    EXPECT_LE(tight.pair, tree.nodes[i].pairBound) << "node " << i;
+    if (tree.tightening.deferred(i) == PairTightening::Deferred::kNone) continue;
+    EXPECT_TRUE(tree.tightening.mayReach(i, tight.pair)) << "node " << i;
+  }
+}
+
+// The planner tightens what it reads: a cold request, a warm one after it, and one on a tree whose
+// every node was tightened first make the same triangles.
+TEST(PairTightening, TheGlbDoesNotDependOnEarlierRequests) {
+  const ControlMesh mesh = cubes();
+  for (double epsilon : {1e-2, 1e-3}) {
+    TessellationOptions options;
+    options.accuracy = Accuracy::relative(epsilon);
+    const PatchSet lazy = buildPatchSet(mesh), eager = buildPatchSet(mesh);
+    for (uint32_t i = 0; i < eager.adaptive->tree.nodes.size(); ++i) pairOf(eager.adaptive->tree, eager, i);
+    const TriangleMesh cold = tessellate(lazy, mesh, options).mesh;
+    const TriangleMesh warm = tessellate(lazy, mesh, options).mesh;
+    const TriangleMesh tightened = tessellate(eager, mesh, options).mesh;
+    ASSERT_GT(cold.triangleCount(), 0u);
+    EXPECT_TRUE(sameMesh(cold, warm)) << epsilon;
+    EXPECT_TRUE(sameMesh(cold, tightened)) << epsilon;
+  }
+}
+
+}  // namespace
+}  // namespace tessera
