@@ -24,14 +24,14 @@ double mib(int64_t bytes) {
   return double(bytes) / double(1 << 20);
 }
 
-// Restarts VmHWM at VmRSS; false when the kernel did not: the mark neither came down nor sits at
-// the resident size (a page or two may be touched, or freed by another thread, between reads).
+// Restarts VmHWM at VmRSS; false when the kernel did not. Restarted, the mark is the resident
+// size at the restart, which lies between the sizes read just before and just after it (but for
+// a page or two touched meanwhile); not restarted, it stays at an earlier, higher peak.
 bool restartHighWaterMark() {
-  const int64_t before = statusBytes("VmHWM:");
+  const int64_t before = statusBytes("VmRSS:");
   std::ofstream("/proc/self/clear_refs") << "5";
-  const int64_t rss = statusBytes("VmRSS:");
-  const int64_t after = statusBytes("VmHWM:");
-  return after < before || after <= rss + (int64_t(64) << 10);
+  const int64_t after = statusBytes("VmRSS:");
+  return statusBytes("VmHWM:") <= std::max(before, after) + (int64_t(64) << 10);
 }
 
 }  // namespace
