@@ -11,17 +11,47 @@
 #include "bench/write_floor.h"
 #include "core/mesh/obj_reader.h"
 #include "core/pipeline/preprocessing.h"
+#include "reference/models.h"
 
 namespace tessera::bench {
-
-namespace {
-}
 
 std::string tessModelsDir() {
   if (const char* dir = std::getenv("TESSERA_MODELS_DIR")) return dir;
   // __FILE__ is <checkout>/bench/tess_common.cpp; the models sit in ../shared/models beside it.
   std::filesystem::path checkout = std::filesystem::path(__FILE__).parent_path().parent_path();
   return (checkout.parent_path() / "shared" / "models").string();
+}
+
+const std::vector<std::string>& adaptiveModels() {
+  static const std::vector<std::string> names = {"bigguy",         "monsterfrog",  "armorguy",
+                                                 "t-rex",          "car",          "catmark_bishop",
+                                                 "catmark_rook",   "catmark_cubes_semisharp",
+                                                 "catmark_torus_creases0"};
+  return names;
+}
+
+TessellationOptions adaptiveOptions(double eps) {
+  TessellationOptions options;
+  options.accuracy = Accuracy::relative(eps);
+  options.maxTriangles = 200'000'000;
+  return options;
+}
+
+std::string modelObjPath(const std::string& name) {
+  const std::string dir = testing::modelsDir();
+  return name.rfind("catmark_", 0) == 0 ? dir + "/opensubdiv-shapes/" + name + ".obj" : dir + "/" + name + ".obj";
+}
+
+const ControlMesh& geometryMesh(const std::string& name) {
+  static std::mutex mutex;
+  static std::map<std::string, std::unique_ptr<ControlMesh>> meshes;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto& slot = meshes[name];
+  if (!slot) {
+    slot = std::make_unique<ControlMesh>(readObjFile(modelObjPath(name)));
+    slot->uvs.clear(), slot->uvIndices.clear();
+  }
+  return *slot;
 }
 
 const LoadedModel& loadedModel(const std::string& name) {

@@ -15,6 +15,7 @@
 #include "bench/machine_load.h"
 #include "bench/touched_buffer.h"
 #include "core/mesh/control_mesh.h"
+#include "core/request/tessellation_options.h"
 #include "core/rings/patch_set.h"
 
 namespace tessera::bench {
@@ -29,6 +30,23 @@ inline const std::vector<std::string>& paperModels() {
 
 // TESSERA_MODELS_DIR if set, else ../shared/models beside the checkout this file was built from.
 std::string tessModelsDir();
+
+// The cases of the user's job against OpenSubdiv at the oracle rate (tess_glb_bench.cpp,
+// cold_bench.cpp): the paper's five models and four OpenSubdiv shapes (n-gons, creases,
+// semi-sharp creases), at relative tolerances 1e-2, 1e-3 and 1e-4.
+const std::vector<std::string>& adaptiveModels();
+inline constexpr double kAdaptiveTolerances[] = {1e-2, 1e-3, 1e-4};
+// A relative tolerance ε, with a triangle budget no case comes near.
+TessellationOptions adaptiveOptions(double eps);
+
+// <models>/<name>.obj, or <models>/opensubdiv-shapes/<name>.obj for catmark_* (reference/models.h's
+// folder).
+std::string modelObjPath(const std::string& name);
+
+// The model's control mesh, read once per process, geometry only: the baselines make positions
+// and normals, and the models' own UVs would add their evaluation and seam copies to Tessera's
+// side alone.
+const ControlMesh& geometryMesh(const std::string& name);
 
 struct LoadedModel {
   std::string name;
