@@ -3,8 +3,9 @@
 // content in another mesh is a hit; concurrent cold gets build once, charging only the builder's
 // memory; a cancelled builder leaves the build to a waiter; a waiter whose call is cancelled
 // stops at once; the mesh's own failure reaches every waiter. Over the network, on the real
-// server: one content under two ids is preprocessed once and tessellates to the same GLB, and
-// concurrent cold tessellations of one mesh preprocess it once (tessera_patch_cache_* metrics).
+// server: one content under two ids is decoded and preprocessed once and tessellates to the same
+// GLB, and concurrent cold tessellations of one mesh preprocess it once (tessera_patch_cache_*
+// and tessera_cache_bytes metrics).
 #include "server/meshes/patch_set_cache.h"
 
 #include <gtest/gtest.h>
@@ -248,8 +249,13 @@ TEST(PatchSetCacheServer, OneContentUnderTwoIdsIsPreprocessedOnceIntoTheSameGlb)
   auto meshes = v1::MeshService::NewStub(server->channel());
   v1::Mesh first, second;
   ASSERT_TRUE(uploadBigguy(*meshes, "twin-a", &first).ok());
+  const double decoded =
+      seriesValue(httpGet(server->metricsAddress(), "/metrics"), "tessera_cache_bytes");
   ASSERT_TRUE(uploadBigguy(*meshes, "twin-b", &second).ok());
   EXPECT_EQ(first.sha256(), second.sha256());
+  EXPECT_EQ(seriesValue(httpGet(server->metricsAddress(), "/metrics"), "tessera_cache_bytes"),
+            decoded)
+      << "the decoded mesh is held once";
 
   auto tessellation = v1::TessellationService::NewStub(server->channel());
   const Streamed a = tessellateOverGrpc(*tessellation, tessellateRequest("twin-a"));
