@@ -4,6 +4,7 @@
 #include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
 
+#include <stdexcept>
 #include <vector>
 
 namespace tessera::server {
@@ -31,6 +32,8 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
                                                    const std::string& meshSha256,
                                                    const CancellationToken& cancel,
                                                    MemoryReservation* memory) {
+  // Without it every mesh would share one entry.
+  if (meshSha256.empty()) throw std::invalid_argument("PatchSetCache::get: the mesh's SHA-256 is missing");
   bool built = false;
   auto build = [&] {
     built = true;

@@ -38,7 +38,8 @@ class PatchSetCache {
   // the job ends; a call waiting for another's build reserves nothing for it. Throws what
   // buildPatchSet throws (TesseraError: the mesh's own failure, which calls waiting for the same
   // build get too), OperationCancelled when `cancel` fires while building or waiting (nothing is
-  // cached then, and calls waiting for this build build it themselves), and what `memory` throws.
+  // cached then, and calls waiting for this build build it themselves), what `memory` throws, and
+  // std::invalid_argument for an empty `meshSha256`.
   std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshSha256,
                                       const CancellationToken& cancel, MemoryReservation* memory);
 

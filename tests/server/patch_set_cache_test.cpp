@@ -15,6 +15,7 @@
 #include <condition_variable>
 #include <future>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -106,6 +107,9 @@ TEST(PatchSetCache, TheSameContentInAnotherMeshIsPreprocessedOnce) {
   EXPECT_NE(cache.get(other, contentSha256(other), {}, nullptr), built);
   EXPECT_EQ(cache.stats().misses, 2u);
   EXPECT_EQ(cache.stats().entries, 2u);
+
+  // The content's hash is the whole key: a call without it would share one entry for all.
+  EXPECT_THROW(cache.get(other, "", {}, nullptr), std::invalid_argument);
 }
 
 TEST(PatchSetCache, ConcurrentColdGetsPreprocessOnceChargingTheBuilderOnly) {
