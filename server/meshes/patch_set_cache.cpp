@@ -33,7 +33,9 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
                                                    const CancellationToken& cancel,
                                                    MemoryReservation* memory) {
   // Without it every mesh would share one entry.
-  if (meshSha256.empty()) throw std::invalid_argument("PatchSetCache::get: the mesh's SHA-256 is missing");
+  if (meshSha256.empty()) {
+    throw std::invalid_argument("PatchSetCache::get: the mesh's SHA-256 is missing");
+  }
   bool built = false;
   auto build = [&] {
     built = true;
