@@ -119,10 +119,11 @@ void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repositor
   registry.sampled("tessera_cache_bytes", "Bytes of decoded meshes in the cache.", "gauge",
                    [&] { return double(repository.cacheStats().bytes); });
   registry.sampled("tessera_patch_cache_hits_total",
-                   "Patch-set cache lookups that found the mesh preprocessed.", "counter",
-                   [&] { return double(patches.stats().hits); });
+                   "Patch-set cache lookups that found the mesh's content preprocessed (cached, "
+                   "or by the build they waited for).",
+                   "counter", [&] { return double(patches.stats().hits); });
   registry.sampled("tessera_patch_cache_misses_total",
-                   "Patch-set cache lookups that had to preprocess the mesh.", "counter",
+                   "Preprocessings the patch-set cache started (finished or not).", "counter",
                    [&] { return double(patches.stats().misses); });
   registry.sampled("tessera_patch_cache_bytes", "Bytes of preprocessed patch sets in the cache.",
                    "gauge", [&] { return double(patches.stats().bytes); });

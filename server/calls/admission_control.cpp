@@ -39,6 +39,14 @@ void AdmissionControl::Slot::release(int64_t bytes) {
   if (owner_ && bytes > 0) owner_->giveBack(*this, bytes);
 }
 
+void AdmissionControl::Slot::beginWaitingForAnotherJob() {
+  if (owner_) owner_->waitForAnotherJob(+1);
+}
+
+void AdmissionControl::Slot::endWaitingForAnotherJob() {
+  if (owner_) owner_->waitForAnotherJob(-1);
+}
+
 AdmissionControl::AdmissionControl(int maxRunning, int maxQueued, int64_t memoryBytes, std::string memoryNote)
     : maxRunning_(std::max(maxRunning, 1)),
       maxQueued_(std::max(maxQueued, 0)),
@@ -136,7 +144,7 @@ void AdmissionControl::reserve(Slot& slot, int64_t bytes, std::string_view what)
       throw OperationCancelled();
     }
     // Only a running job that is not itself waiting can give memory back.
-    if (running_ - growing_ <= 0) {
+    if (running_ - growing_ - waitingForOthers_ <= 0) {
       stopGrowing();
       ++rejected_;
       const int64_t retryAfter = retryAfterMsLocked();
@@ -160,6 +168,12 @@ void AdmissionControl::giveBack(Slot& slot, int64_t bytes) {
   slot.bytes_ -= bytes;
   reserved_ -= bytes;
   changed_.notify_all();
+}
+
+void AdmissionControl::waitForAnotherJob(int change) {
+  std::lock_guard lock(mutex_);
+  waitingForOthers_ += change;
+  changed_.notify_all();  // a job growing meanwhile looks again at who could give memory back
 }
 
 void AdmissionControl::release(const Slot& slot) {

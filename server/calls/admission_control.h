@@ -8,7 +8,8 @@
 // front fits beside the others', and reserves more as it learns its size (MemoryReservation).
 // A reservation that could never fit is refused at once, naming the estimate and the budget.
 // One that fits once others finish waits for them; if every other running job is itself
-// waiting, it is refused with a retry hint instead (no two jobs wait on each other).
+// waiting (for memory, or for work another job does for it), it is refused with a retry hint
+// instead (no two jobs wait on each other).
 #pragma once
 
 #include <chrono>
@@ -40,6 +41,10 @@ class AdmissionControl {
     void reserve(int64_t bytes, std::string_view what) override;
     void release(int64_t bytes) override;
     int64_t reserved() const { return bytes_; }
+
+   protected:
+    void beginWaitingForAnotherJob() override;
+    void endWaitingForAnotherJob() override;
 
    private:
     friend class AdmissionControl;
@@ -77,6 +82,7 @@ class AdmissionControl {
   void release(const Slot& slot);
   void reserve(Slot& slot, int64_t bytes, std::string_view what);
   void giveBack(Slot& slot, int64_t bytes);
+  void waitForAnotherJob(int change);
   int64_t retryAfterMsLocked() const;
   bool mayStartLocked(uint64_t ticket) const;
 
@@ -92,8 +98,9 @@ class AdmissionControl {
   mutable std::mutex mutex_;
   std::condition_variable changed_;
   int running_ = 0;
-  int growing_ = 0;         // running jobs waiting in reserve()
-  int64_t reserved_ = 0;    // bytes held by running jobs
+  int growing_ = 0;             // running jobs waiting in reserve()
+  int waitingForOthers_ = 0;    // running jobs waiting for work another job does for them
+  int64_t reserved_ = 0;        // bytes held by running jobs
   std::list<Waiting> waiting_;  // in arrival order
   uint64_t nextTicket_ = 0;
   uint64_t rejected_ = 0;

@@ -28,6 +28,29 @@ class MemoryReservation {
     if (bytes < held) release(held - bytes);
     held = bytes;
   }
+
+  // While the job waits for work another job does for both of them (a patch set that job is
+  // building, single_flight.h), it gives no memory back until that work ends. Admission control
+  // counts it then as it counts a job waiting for memory, so that the job it waits for is
+  // refused with a retry hint rather than left waiting for memory this one holds.
+  class WaitingForAnotherJob {
+   public:
+    explicit WaitingForAnotherJob(MemoryReservation* job) : job_(job) {
+      if (job_) job_->beginWaitingForAnotherJob();
+    }
+    ~WaitingForAnotherJob() {
+      if (job_) job_->endWaitingForAnotherJob();
+    }
+    WaitingForAnotherJob(const WaitingForAnotherJob&) = delete;
+    WaitingForAnotherJob& operator=(const WaitingForAnotherJob&) = delete;
+
+   private:
+    MemoryReservation* job_;
+  };
+
+ protected:
+  virtual void beginWaitingForAnotherJob() {}
+  virtual void endWaitingForAnotherJob() {}
 };
 
 }  // namespace tessera::server

@@ -13,7 +13,7 @@
 namespace tessera::server {
 namespace {
 
-std::string cacheKey(const MeshMetadata& m) { return m.id + "@" + m.sha256; }
+const std::string& cacheKey(const MeshMetadata& m) { return m.sha256; }
 
 int64_t nowMicros() {
   using namespace std::chrono;

@@ -1,7 +1,9 @@
 // The server's view of its meshes: the store for durability plus a byte-bounded cache of decoded
 // meshes, with the gRPC-facing errors (NOT_FOUND, ALREADY_EXISTS, UNAVAILABLE, DATA_LOSS) decided
-// here once. Cache entries are keyed by id and content checksum, so a replica never serves a
-// mesh that another replica deleted and re-created under the same id.
+// here once. Cache entries are keyed by content checksum alone (the SHA-256 of the canonical
+// encoding, which the metadata read from the store gives): one content under several ids is
+// decoded and kept once, and a replica never serves a mesh that another replica deleted and
+// re-created under the same id with other content.
 #pragma once
 
 #include <memory>

@@ -4,6 +4,7 @@
 #include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
 
+#include <stdexcept>
 #include <vector>
 
 namespace tessera::server {
@@ -27,24 +28,43 @@ size_t bytesOf(const PatchSet& set) {
 
 }  // namespace
 
-std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh, const std::string& meshId,
-                                                   const std::string& meshSha256, const CancellationToken& cancel,
+std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
+                                                   const std::string& meshSha256,
+                                                   const CancellationToken& cancel,
                                                    MemoryReservation* memory) {
-  const std::string key = meshId + "@" + meshSha256;
-  if (auto cached = cache_.find(key)) return cached;
-  PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
-  int64_t held = 0;
-  if (memory) {
-    options.beforeRefining = [&](int64_t estimate) {
-      memory->hold(held, refinementBytes(estimate), "OpenSubdiv's refinement of the mesh");
-    };
-    options.afterRefining = [&](int64_t refined) {
-      memory->hold(held, preprocessingBytes(mesh, refined), "preprocessing the mesh");
-    };
+  // Without it every mesh would share one entry.
+  if (meshSha256.empty()) {
+    throw std::invalid_argument("PatchSetCache::get: the mesh's SHA-256 is missing");
   }
-  auto built = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
-  cache_.insert(key, built, bytesOf(*built));
-  return built;
+  bool built = false;
+  auto build = [&] {
+    built = true;
+    misses_.fetch_add(1);
+    PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+    int64_t held = 0;
+    if (memory) {
+      options.beforeRefining = [&](int64_t estimate) {
+        memory->hold(held, refinementBytes(estimate), "OpenSubdiv's refinement of the mesh");
+      };
+      options.afterRefining = [&](int64_t refined) {
+        memory->hold(held, preprocessingBytes(mesh, refined), "preprocessing the mesh");
+      };
+    }
+    auto patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
+    cache_.insert(meshSha256, patches, bytesOf(*patches));
+    return patches;
+  };
+  std::shared_ptr<const PatchSet> patches =
+      builds_.get(meshSha256, cancel, memory, [&] { return cache_.find(meshSha256); }, build);
+  if (!built) hits_.fetch_add(1);
+  return patches;
+}
+
+CacheStats PatchSetCache::stats() const {
+  CacheStats stats = cache_.stats();  // its own hits and misses count every look, retries too
+  stats.hits = hits_.load();
+  stats.misses = misses_.load();
+  return stats;
 }
 
 }  // namespace tessera::server

@@ -1,16 +1,27 @@
 // Preprocessed patch sets (core's buildPatchSet) shared by every engine of a server, the
 // tessellation engine and the renderer alike, within one byte budget: a mesh drawn and then
 // tessellated is preprocessed once, and the budget the operator sets is the memory it takes.
+//
+// Keyed by content alone: the SHA-256 of the mesh's canonical encoding (core/mesh/mesh_codec.h),
+// which holds every field of the ControlMesh that preprocessing reads (positions, faces, creases,
+// corners, holes, the subdivision rules with the UV interpolation, UVs and their indices, the
+// origin). The only other input, the refinement limit, is the cache's own. So identical content
+// under another id, or uploaded again, meets the patch set already built, and a mesh deleted and
+// re-uploaded with other content under the same id never meets a stale one. Concurrent misses of
+// one key build it once (single_flight.h).
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 
+#include "core/base/error.h"
 #include "core/mesh/control_mesh.h"
 #include "core/rings/patch_set.h"
 #include "server/calls/cancellation.h"
 #include "server/calls/memory_reservation.h"
 #include "server/meshes/lru_cache.h"
+#include "server/meshes/single_flight.h"
 
 namespace tessera::server {
 
@@ -20,19 +31,28 @@ class PatchSetCache {
   PatchSetCache(size_t byteBudget, int64_t maxRefinedVertices)
       : cache_(byteBudget), maxRefinedVertices_(maxRefinedVertices) {}
 
-  // The mesh's patch set, built on a miss. Keyed by id and content hash, so a mesh re-uploaded
-  // under the same id never meets a stale entry. Throws what buildPatchSet throws, and
-  // OperationCancelled when `cancel` fires while building (nothing is cached then). A build
-  // reserves its memory in `memory` (may be null) as the refinement's size becomes known
-  // (core/pipeline/memory_estimates.h), and keeps it until the job ends.
-  std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshId,
-                                      const std::string& meshSha256, const CancellationToken& cancel,
-                                      MemoryReservation* memory);
-  CacheStats stats() const { return cache_.stats(); }
+  // The patch set of `mesh`, whose canonical encoding has SHA-256 `meshSha256` (hex, as
+  // MeshMetadata and tessera.v1.Mesh give it): from the cache, from the build another call has
+  // under way (waited for), or built here. A build reserves its memory in `memory` (may be null)
+  // as the refinement's size becomes known (core/pipeline/memory_estimates.h) and keeps it until
+  // the job ends; a call waiting for another's build reserves nothing for it. Throws what
+  // buildPatchSet throws (TesseraError: the mesh's own failure, which calls waiting for the same
+  // build get too), OperationCancelled when `cancel` fires while building or waiting (nothing is
+  // cached then, and calls waiting for this build build it themselves), what `memory` throws, and
+  // std::invalid_argument for an empty `meshSha256`.
+  std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshSha256,
+                                      const CancellationToken& cancel, MemoryReservation* memory);
+
+  // hits: calls that found the patch set built (in the cache, or by the build they waited for);
+  // misses: builds started (each preprocessing, finished or not).
+  CacheStats stats() const;
 
  private:
   LruCache<std::string, PatchSet> cache_;
+  SingleFlight<std::string, PatchSet, TesseraError> builds_;
   int64_t maxRefinedVertices_;
+  std::atomic<uint64_t> hits_{0};
+  std::atomic<uint64_t> misses_{0};
 };
 
 }  // namespace tessera::server

@@ -35,7 +35,7 @@ struct FrameSettings {
 // sides up to 8192).
 struct FrameJob {
   std::string meshId;
-  std::string meshSha256;  // with meshId, the key of cached patch sets
+  std::string meshSha256;  // of its canonical content: the key of cached patch sets
   FrameSettings settings;
   Camera camera;
   // Where the frame reserves memory beyond its pixels (preprocessing, the triangles it draws);

@@ -157,7 +157,7 @@ RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJo
                                           const CancellationToken& cancel) {
   RenderedFrame out;
   Clock::time_point planStart = Clock::now();
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel, job.memory);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshSha256, cancel, job.memory);
   cancel.throwIfCancelled();
   gpu::FrameRequest request = frameRequestFor(job, mesh.origin);
   if (job.memory) {

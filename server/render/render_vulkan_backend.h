@@ -6,8 +6,8 @@
 // a device that cannot be created makes every later frame RenderUnavailable with the reason,
 // and a lost device is dropped so that the next frame creates a new one.
 //
-// Patch sets are cached per mesh id and content hash within a byte budget, like the CPU
-// tessellation engine's (cpu_engine.h), which keeps its own.
+// Patch sets come from the server's one PatchSetCache (patch_set_cache.h, keyed by content),
+// which the tessellation engines share.
 #pragma once
 
 #include <chrono>

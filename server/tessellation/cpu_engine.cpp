@@ -51,7 +51,7 @@ TessellationOutput CpuTessellationEngine::runWith(const ControlMesh& mesh, const
   TessellationOutput output;
   auto start = Clock::now();
   progress("preprocessing", 0.0);
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshId, job.meshSha256, cancel, job.memory);
+  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshSha256, cancel, job.memory);
   output.summary.timings.push_back({"preprocess", seconds(start)});
   cancel.throwIfCancelled();
 

@@ -23,8 +23,9 @@ namespace tessera::server {
 
 struct TessellationJob {
   std::string meshId;
-  // SHA-256 of the mesh's canonical content: a cache key for derived data (patch sets) that
-  // changes whenever a mesh is deleted and re-uploaded under the same id.
+  // SHA-256 of the mesh's canonical content: the key of what is derived from it (patch sets,
+  // device surfaces), shared by identical content under any id and changed whenever a mesh is
+  // deleted and re-uploaded with other content under the same id.
   std::string meshSha256;
   // Checked by tessellate_request.h: ε in model units (a relative tolerance already multiplied
   // by the mesh's diagonal, which the server's limits are checked against), pixels for `camera`,

@@ -1,6 +1,7 @@
 // AdmissionControl's memory budget, in process: jobs are admitted by bytes as well as by count,
 // reservations that could never fit are refused at once naming the estimate and the budget, a
-// job that fits once another finishes waits for it, and two jobs never wait on each other.
+// job that fits once another finishes waits for it, and two jobs never wait on each other (nor
+// on one that waits for their work).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -105,6 +106,29 @@ TEST(AdmissionMemory, AGrowingJobWaitsForARunningOneButNotForAnotherGrowingOne) 
   second.reset();  // the refused call ends and gives its memory back
   first.get();
   EXPECT_EQ(admission.memoryReserved(), 90 * kMiB);
+}
+
+TEST(AdmissionMemory, AJobWaitingForAnothersWorkCannotGiveMemoryBack) {
+  // The other job holds memory but waits for this one's work (the patch set this one builds):
+  // waiting for it would wait for ever, so the reservation is refused with a retry hint.
+  AdmissionControl admission(2, 8, 100 * kMiB);
+  CancellationToken cancel;
+  AdmissionControl::Slot building = admission.acquire(cancel, {}, 10 * kMiB);
+  AdmissionControl::Slot other = admission.acquire(cancel, {}, 60 * kMiB);
+  std::string message;
+  int64_t retry = 0;
+  {
+    MemoryReservation::WaitingForAnotherJob waiting(&other);
+    EXPECT_EQ(codeOf([&] { building.reserve(50 * kMiB, "preprocessing the mesh"); }, &message, &retry),
+              grpc::StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_GT(retry, 0) << message;
+  }
+  // Once it waits no more it can finish and give its memory back: the reservation waits for it.
+  auto grow = std::async(std::launch::async, [&] { building.reserve(50 * kMiB, "preprocessing the mesh"); });
+  EXPECT_EQ(grow.wait_for(std::chrono::milliseconds(100)), std::future_status::timeout);
+  other.release(60 * kMiB);
+  grow.get();
+  EXPECT_EQ(building.reserved(), 60 * kMiB);
 }
 
 TEST(AdmissionMemory, AWaitingReservationEndsWhenTheJobIsCancelled) {
