@@ -92,6 +92,8 @@ void tesseraGlb(const ControlMesh& mesh, const std::string& name,
   Clock::time_point refined = start, written;
   PreprocessingOptions preprocessing;
   preprocessing.afterRefining = [&refined](int64_t) { refined = Clock::now(); };
+  // As the CLI and the server do: the surface for the request's tolerance (its chain depth).
+  preprocessing.finestRelativeTolerance = finestRelativeTolerance(mesh, options);
   {
     const PatchSet patches = makePatchSet(mesh, preprocessing);
     const Clock::time_point preprocessed = Clock::now();

@@ -137,7 +137,9 @@ int runLocalTessellate(const TessellateFlags& flags) {
   try {
     TessellationOptions options = flags.toOptions();
     ControlMesh mesh = readObjFile(flags.model);
-    PatchSet patches = buildPatchSet(mesh);
+    PreprocessingOptions preprocessing;
+    preprocessing.finestRelativeTolerance = finestRelativeTolerance(mesh, options);
+    PatchSet patches = buildPatchSet(mesh, preprocessing);
     double preprocessMs =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const GlbEncoding encoding = parseGlbEncoding(flags.encoding);

@@ -41,7 +41,8 @@ double degreesBetween(const Vec3d& a, const Vec3d& b) {
   return std::acos(std::clamp(c, -1.0, 1.0)) * 180 / M_PI;
 }
 
-// The benchmark's models (bench/tess_glb_bench.cpp) at its three tolerances: the two-sided distance
+// The benchmark's models (bench/tess_glb_bench.cpp) at its three tolerances, each preprocessed
+// for its tolerance: the two-sided distance
 // to the exact limit surface, measured by projection (reference/limit_distance.h, a code path
 // of its own), is within ε up to the reference's own accuracy (Bfr at level 10 agrees with level
 // 12 within 3e-6 of the diagonal on these models).
@@ -53,10 +54,13 @@ TEST(AdaptiveTessellation, MeasuredTwoSidedDistanceIsWithinTolerance) {
   }
   for (const std::string& path : paths) {
     const ControlMesh mesh = readObjFile(path);
-    const PatchSet set = buildPatchSet(mesh);
     const testing::LimitSurface surface(mesh);
     for (double relative : {1e-2, 1e-3, 1e-4}) {
       SCOPED_TRACE(testing::baseName(path) + " at " + std::to_string(relative));
+      // Preprocessed for the tolerance, as the CLI and the server do (its chains that deep).
+      PreprocessingOptions preprocessing;
+      preprocessing.finestRelativeTolerance = relative;
+      const PatchSet set = buildPatchSet(mesh, preprocessing);
       const TessellationResult result = tessellateAt(mesh, set, relative);
       const testing::LimitDistanceReport report = measureLimitDistance(surface, testing::viewOf(result.mesh));
       EXPECT_LE(report.twoSidedRelative(), relative + kReferenceAccuracy)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/mesh/control_mesh.h"
+#include "core/request/tessellation_options.h"
 #include "core/rings/patch_set.h"
 #include "core/topology/patch_builder.h"
 
@@ -13,5 +14,11 @@ namespace tessera {
 // TesseraError for invalid or unsupported input (features that cannot be reduced to the
 // canonical pieces) and for a refinement over the options' limit.
 PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options = {});
+
+// The finest tolerance, a fraction of the bounding-box diagonal, that a request with `options`
+// asks anywhere on `mesh` (before any encoding's reserve): what to preprocess it for
+// (PreprocessingOptions::finestRelativeTolerance). With a camera, the tolerance at the nearest
+// corner of the mesh's box; 0 for a uniform level, which needs no tree.
+double finestRelativeTolerance(const ControlMesh& mesh, const TessellationOptions& options);
 
 }  // namespace tessera

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 #include <string>
 
 #include "core/base/error.h"
 #include "core/output/uv_seams.h"
 #include "core/stitching/adaptive_tessellator.h"
 #include "core/surface/adaptive_surface.h"
+#include "core/surface/tolerance_model.h"
 #include "core/uniform/tessellation_plan.h"
 
 namespace tessera {
@@ -18,8 +20,24 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 }
 
 // The user path for a tolerance: tiles over the surface tree (docs/ADAPTIVE.md).
+// A tree whose chains stop short of what the request needs would leave tiles around EVs that
+// cannot meet ε: a caller that preprocessed for a coarser tolerance (PreprocessingOptions) is a bug.
+void requireDepthFor(const PatchSet& patches, const TessellationOptions& options) {
+  const double diagonal = length(Vec3d(patches.boundsMax) - Vec3d(patches.boundsMin));
+  if (!(diagonal > 0)) return;
+  const float lo[3] = {patches.boundsMin.x, patches.boundsMin.y, patches.boundsMin.z};
+  const float hi[3] = {patches.boundsMax.x, patches.boundsMax.y, patches.boundsMax.z};
+  const double finest = ToleranceModel(options, patches).forBox(lo, hi) / diagonal;
+  const SurfaceTree& tree = patches.adaptive->tree;
+  if (tree.serves(finest)) return;
+  throw std::logic_error("the patch set's EV chains stop at " + std::to_string(tree.chainFloor) +
+                         " of the diagonal, too coarse for a tolerance of " + std::to_string(finest) +
+                         " of it: preprocess for the request (PreprocessingOptions::finestRelativeTolerance)");
+}
+
 TessellationResult tessellateToTolerance(const PatchSet& patches, const TessellationOptions& options) {
   const AdaptiveSurface& surface = *patches.adaptive;
+  requireDepthFor(patches, options);
   auto start = std::chrono::steady_clock::now();
   const AdaptiveLayout layout = layoutAdaptive(patches, surface, options);
   const AdaptivePlan& plan = layout.plan;

@@ -10,9 +10,10 @@ size_t AdaptiveSurface::bytes() const {
 
 std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const RefinementInput& input,
                                                             const ControlMesh& mesh,
-                                                            const std::function<void()>& checkpoint) {
+                                                            const std::function<void()>& checkpoint,
+                                                            double chainFloor) {
   auto surface = std::make_shared<AdaptiveSurface>();
-  surface->tree = buildSurfaceTree(patches, input.sheets(), checkpoint);
+  surface->tree = buildSurfaceTree(patches, input.sheets(), checkpoint, chainFloor);
   if (checkpoint) checkpoint();
   surface->seams = SeamTopology(input.cut().seamsOf(mesh));
   surface->rootSeams = RootSeams(surface->tree, surface->seams);

@@ -25,11 +25,12 @@ struct AdaptiveSurface {
   size_t bytes() const;
 };
 
-// The surface tree over `patches` (reduced from `input`'s sheets of `mesh`) and the seams between
-// its roots. `checkpoint`, when given, is called for every root and between the stages, and may
-// throw to abandon the work.
+// The surface tree over `patches` (reduced from `input`'s sheets of `mesh`), its chains down to
+// `chainFloor` (surface_tree.h), and the seams between its roots. `checkpoint`, when given, is
+// called for every root and between the stages, and may throw to abandon the work.
 std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const RefinementInput& input,
                                                             const ControlMesh& mesh,
-                                                            const std::function<void()>& checkpoint);
+                                                            const std::function<void()>& checkpoint,
+                                                            double chainFloor = kChainFloor);
 
 }  // namespace tessera

@@ -110,7 +110,7 @@ void TreeBuilder::refineRings() {
     int depth = 0;
     for (;;) {
       shared.push_back(ringLevel(r, ringOf(depth), depth));
-      if (depth == kMaxTableDepth || shared.back().bound <= floor_) break;
+      if (depth == kMaxTableDepth || shared.back().bound <= chainFloor_) break;
       kept.resize((depth + 1) * refinedFloats);
       refineRingStep<3>(rules, ringOf(depth), kept.data() + depth * refinedFloats);
       ++depth;
@@ -359,10 +359,12 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
   return fit;
 }
 
-SurfaceTree TreeBuilder::build() {
+SurfaceTree TreeBuilder::build(double chainFloor) {
   const double diagonal = length(Vec3d(patches_.boundsMax) - Vec3d(patches_.boundsMin));
   floor_ = kChainFloor * (diagonal > 0 ? diagonal : 1.0);
+  chainFloor_ = chainFloor * (diagonal > 0 ? diagonal : 1.0);
   tree_.floor = floor_;
+  tree_.chainFloor = chainFloor;
   makeRoots();
   refineRings();
   std::vector<std::vector<Item>> items = collectItems();
@@ -406,8 +408,18 @@ size_t SurfaceTree::bytes() const {
          refinedLevels.size() * sizeof(float) + tightening.bytes();
 }
 
-SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint) {
-  return surface_tree_building::TreeBuilder(patches, mesh, checkpoint).build();
+SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint,
+                             double chainFloor) {
+  return surface_tree_building::TreeBuilder(patches, mesh, checkpoint).build(chainFloor);
+}
+
+double chainFloorFor(double finestRelativeTolerance) {
+  if (!(finestRelativeTolerance > 0)) return kChainFloor;
+  return std::max(kChainFloor, std::pow(10.0, std::floor(std::log10(kChainBuilt * finestRelativeTolerance))));
+}
+
+bool SurfaceTree::serves(double relativeTolerance) const {
+  return chainFloor <= std::max(kChainFloor, kChainServes * relativeTolerance) * (1 + 1e-9);
 }
 
 }  // namespace tessera

@@ -22,6 +22,17 @@
 
 namespace tessera {
 
+// The finest chain floor, a fraction of the bounding-box diagonal: a tree built with it serves
+// every tolerance the server admits.
+inline constexpr double kChainFloor = 1e-7;
+// A request at relative tolerance ε needs EV chains whose deepest stand-ins are within
+// kChainServes·ε: below that the planner stops in them with the same tiles (at 1e-2 and 1e-3, the
+// paper's models and the OpenSubdiv shapes make the same triangles with chains to 10⁻² ε as to
+// 10⁻⁷ of the diagonal, bench/COLD-RESULTS.md). Trees are built ten times deeper than that
+// (kChainBuilt), on powers of ten, so that nearby tolerances and an encoding's reserve share one.
+inline constexpr double kChainServes = 1e-2;
+inline constexpr double kChainBuilt = 1e-3;
+
 inline constexpr uint32_t kNoNode = UINT32_MAX;
 
 enum class NodeKind : uint8_t {
@@ -78,7 +89,7 @@ struct FasLeaf {
 };
 
 // The deepest EV quadrant kept: its stand-in (the ring's ACC-1 approximation at that level),
-// which also serves to evaluate points within kChainFloor of the EV.
+// which also serves to evaluate points within the chain floor of the EV.
 struct EvBottom {
   std::array<Vec3, 16> g;  // Bézier net in root orientation over the node's square, from `center`
   Vec3 center;             // the ring's centre (deep quadrants are tiny: kept relative)
@@ -106,6 +117,7 @@ struct SurfaceTree {
   std::vector<size_t> refinedOffsets;
   std::vector<float> refinedLevels;
   double floor = 0;  // kChainFloor times the bounding-box diagonal
+  double chainFloor = kChainFloor;  // where its EV chains stop, a fraction of the diagonal
   PairTightening tightening;  // the dearest pair bounds, computed as requests read them
 
   int rootOf(int baseFace, int subFace) const { return faceFirstRoot[baseFace] + (subFace < 0 ? 0 : subFace); }
@@ -115,15 +127,20 @@ struct SurfaceTree {
   const float* ringAtLevel(const RingSet& rings, size_t r, int level) const {
     return level == 0 ? rings.ringPoints(r) : refinedAtLevel(rings, r, level);
   }
+  // Whether the chains go deep enough for requests down to `relativeTolerance`.
+  bool serves(double relativeTolerance) const;
   size_t bytes() const;
 };
 
-// Builds the tree for a patch set. Each EV chain goes down until its stand-in bound is below
-// kChainFloor times the bounding-box diagonal (or the depth tables end).
-// `checkpoint` (may be empty) is called for every ring and root and may throw to abandon the build.
-SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint);
+// The chain floor to build for requests down to `finestRelativeTolerance` (0: any request).
+double chainFloorFor(double finestRelativeTolerance);
 
-inline constexpr double kChainFloor = 1e-7;
+// Builds the tree for a patch set. Each EV chain goes down until its stand-in bound is below
+// `chainFloor` times the bounding-box diagonal (or the depth tables end): deeper chains serve
+// finer requests and cost more to build (the cold path, docs/ADAPTIVE.md §1a).
+// `checkpoint` (may be empty) is called for every ring and root and may throw to abandon the build.
+SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint,
+                             double chainFloor = kChainFloor);
 
 // The square of a piece domain inside its root: level, position, and how (s, t) sits in (u, v).
 struct RootSquare {

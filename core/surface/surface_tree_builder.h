@@ -61,7 +61,7 @@ class TreeBuilder {
  public:
   TreeBuilder(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint)
       : patches_(patches), mesh_(mesh), checkpoint_(checkpoint) {}
-  SurfaceTree build();
+  SurfaceTree build(double chainFloor);
 
  private:
   void makeRoots();
@@ -113,7 +113,8 @@ class TreeBuilder {
   std::vector<std::array<Vec3d, 4>> corners_;
   std::vector<double> pair_, pairReparam_;
   std::vector<std::array<double, 4>> bow_, bowReparam_;
-  double floor_ = 0;
+  double floor_ = 0;       // kChainFloor of the diagonal: the bounds' thresholds scale with it
+  double chainFloor_ = 0;  // where the EV chains stop, in model units
   // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
   // O(ring size) to compute, so computed once (a valence-n ring has n sectors): the stand-in
   // bound, the EV's limit point (relative to the ring's centre) and the ring's box.

@@ -5,8 +5,8 @@
 
 namespace tessera {
 
-ToleranceModel::ToleranceModel(const TessellationOptions& options, const PatchSet& patches) {
-  const double diagonal = length(Vec3d(patches.boundsMax) - Vec3d(patches.boundsMin));
+ToleranceModel::ToleranceModel(const TessellationOptions& options, Vec3 boundsMin, Vec3 boundsMax) {
+  const double diagonal = length(Vec3d(boundsMax) - Vec3d(boundsMin));
   // A uniform level meets no ε: the reserve only adds to its bound (tessellate.cpp).
   const Accuracy& accuracy = options.accuracy;
   reserve_ = accuracy.uniform() ? 0.0 : options.encodingReserve;

@@ -13,7 +13,10 @@ namespace tessera {
 
 class ToleranceModel {
  public:
-  ToleranceModel(const TessellationOptions& options, const PatchSet& patches);
+  ToleranceModel(const TessellationOptions& options, const PatchSet& patches)
+      : ToleranceModel(options, patches.boundsMin, patches.boundsMax) {}
+  // For a mesh whose control points lie in [boundsMin, boundsMax] (its surface does too).
+  ToleranceModel(const TessellationOptions& options, Vec3 boundsMin, Vec3 boundsMax);
 
   double forPoints(const Vec3* points, int count) const;
   // A stored ring: xyz floats relative to its centre.

@@ -21,11 +21,16 @@ namespace tessera {
 // refinement is made, and `afterRefining` the exact count once it is, before the patches are
 // built (either may throw): how a server reserves memory for the job as it learns its size
 // (core/pipeline/memory_estimates.h).
+// `finestRelativeTolerance`: the finest tolerance (a fraction of the bounding-box diagonal) the
+// adaptive surface must serve, which sets how deep its EV chains go (core/surface/surface_tree.h,
+// chainFloorFor); 0 serves any (core/pipeline/preprocessing.h, finestRelativeTolerance, says what a
+// request needs).
 struct PreprocessingOptions {
   std::function<void()> checkpoint;
   int64_t maxRefinedVertices = 0;
   std::function<void(int64_t refinedVertices)> beforeRefining = {};
   std::function<void(int64_t refinedVertices)> afterRefining = {};
+  double finestRelativeTolerance = 0;
 };
 
 // Reduces a validated control mesh (`input`: what Far refines for it) to regular patches and

@@ -3,8 +3,10 @@
 #include "core/pipeline/memory_estimates.h"
 #include "core/pipeline/preprocessing.h"
 #include "core/surface/adaptive_surface.h"
+#include "core/surface/surface_tree.h"
 
 #include <stdexcept>
+#include <cmath>
 #include <vector>
 
 namespace tessera::server {
@@ -26,21 +28,29 @@ size_t bytesOf(const PatchSet& set) {
          (set.adaptive ? set.adaptive->bytes() : 0);
 }
 
+// Content and chain floor (a power of ten: its exponent names it).
+std::string keyAt(const std::string& meshSha256, double chainFloor) {
+  return meshSha256 + "@1e" + std::to_string(int(std::lround(std::log10(chainFloor))));
+}
+
 }  // namespace
 
 std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
                                                    const std::string& meshSha256,
                                                    const CancellationToken& cancel,
-                                                   MemoryReservation* memory) {
+                                                   MemoryReservation* memory,
+                                                   double finestRelativeTolerance) {
   // Without it every mesh would share one entry.
   if (meshSha256.empty()) {
     throw std::invalid_argument("PatchSetCache::get: the mesh's SHA-256 is missing");
   }
+  const double floor = chainFloorFor(finestRelativeTolerance);
   bool built = false;
   auto build = [&] {
     built = true;
     misses_.fetch_add(1);
     PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+    options.finestRelativeTolerance = finestRelativeTolerance;
     int64_t held = 0;
     if (memory) {
       options.beforeRefining = [&](int64_t estimate) {
@@ -51,11 +61,17 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
       };
     }
     auto patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
-    cache_.insert(meshSha256, patches, bytesOf(*patches));
+    cache_.insert(keyAt(meshSha256, floor), patches, bytesOf(*patches));
     return patches;
   };
-  std::shared_ptr<const PatchSet> patches =
-      builds_.get(meshSha256, cancel, memory, [&] { return cache_.find(meshSha256); }, build);
+  // Any chain floor at or below this request's serves it, the finest (kChainFloor) last.
+  auto cached = [&]() -> std::shared_ptr<const PatchSet> {
+    for (double at = floor; at >= kChainFloor * (1 - 1e-9); at /= 10) {
+      if (auto found = cache_.find(keyAt(meshSha256, at))) return found;
+    }
+    return nullptr;
+  };
+  std::shared_ptr<const PatchSet> patches = builds_.get(keyAt(meshSha256, floor), cancel, memory, cached, build);
   if (!built) hits_.fetch_add(1);
   return patches;
 }

@@ -40,8 +40,13 @@ class PatchSetCache {
   // build get too), OperationCancelled when `cancel` fires while building or waiting (nothing is
   // cached then, and calls waiting for this build build it themselves), what `memory` throws, and
   // std::invalid_argument for an empty `meshSha256`.
+  // `finestRelativeTolerance` (core's PreprocessingOptions; 0: any request) sets how deep the
+  // surface's EV chains go: a patch set built for a finer one serves a coarser request, so a
+  // coarse request is served by what is cached for this content at its chain floor or any finer
+  // one, and builds at its own (the cold path, docs/ADAPTIVE.md §1a).
   std::shared_ptr<const PatchSet> get(const ControlMesh& mesh, const std::string& meshSha256,
-                                      const CancellationToken& cancel, MemoryReservation* memory);
+                                      const CancellationToken& cancel, MemoryReservation* memory,
+                                      double finestRelativeTolerance = 0);
 
   // hits: calls that found the patch set built (in the cache, or by the build they waited for);
   // misses: builds started (each preprocessing, finished or not).

@@ -5,6 +5,7 @@
 
 #include "core/pipeline/glb_output.h"
 #include "core/pipeline/memory_estimates.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/pipeline/tessellate.h"
 
 namespace tessera::server {
@@ -51,13 +52,14 @@ TessellationOutput CpuTessellationEngine::runWith(const ControlMesh& mesh, const
   TessellationOutput output;
   auto start = Clock::now();
   progress("preprocessing", 0.0);
-  std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshSha256, cancel, job.memory);
+  TessellationOptions options = optionsFor(job, cancel, mesh.hasUvs());
+  std::shared_ptr<const PatchSet> patches =
+      patches_.get(mesh, job.meshSha256, cancel, job.memory, finestRelativeTolerance(mesh, options));
   output.summary.timings.push_back({"preprocess", seconds(start)});
   cancel.throwIfCancelled();
 
   progress("tessellating", 0.3);
   start = Clock::now();
-  TessellationOptions options = optionsFor(job, cancel, mesh.hasUvs());
   const std::unique_ptr<VertexEvaluation> evaluation = device ? device(patches, job) : nullptr;
   options.vertexEvaluation = evaluation.get();
   const std::optional<PositionQuantization> positions = reserveForEncoding(job.encoding, *patches, options);

@@ -112,6 +112,25 @@ TEST(PatchSetCache, TheSameContentInAnotherMeshIsPreprocessedOnce) {
   EXPECT_THROW(cache.get(other, "", {}, nullptr), std::invalid_argument);
 }
 
+// A patch set is built for the finest tolerance asked so far (its EV chains' depth): a coarser
+// request is served by a finer one's, a finer request builds its own.
+TEST(PatchSetCache, AFinerRequestsPatchSetServesACoarserOne) {
+  PatchSetCache cache(kBudget, kNoLimit);
+  const ControlMesh mesh = cube();
+  const std::string sha = contentSha256(mesh);
+  auto coarse = cache.get(mesh, sha, {}, nullptr, 1e-2);
+  EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-2), coarse);
+  EXPECT_EQ(cache.stats().misses, 1u);
+  auto fine = cache.get(mesh, sha, {}, nullptr, 1e-4);
+  EXPECT_NE(fine, coarse);
+  EXPECT_EQ(cache.stats().misses, 2u);
+  EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-3), fine);  // 1e-4's chains serve 1e-3
+  EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-2), coarse);  // its own tier first
+  // 1e-4 is deep enough for any request (kChainFloor): what a request of unknown ε gets.
+  EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 0), fine);
+  EXPECT_EQ(cache.stats().misses, 2u);
+}
+
 TEST(PatchSetCache, ConcurrentColdGetsPreprocessOnceChargingTheBuilderOnly) {
   PatchSetCache cache(kBudget, kNoLimit);
   const ControlMesh mesh = cube();
