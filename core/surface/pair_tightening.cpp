@@ -75,7 +75,6 @@ class Tightener {
   NodePair internal(uint32_t index) const;
 
  private:
-  BezierNet netOrStandIn(const SurfaceNode& node, uint32_t index, double& r) const;
   void gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const;
   DiagonalMap diagonalMap(uint32_t index) const;
   void againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t iy, const DiagonalMap& map, double& pair,
@@ -87,17 +86,6 @@ class Tightener {
   const PatchSet& patches_;
   const PairTightening& kept_;
 };
-
-// A leaf's net (r = 0), or an EV bottom's stand-in with its bound r.
-BezierNet Tightener::netOrStandIn(const SurfaceNode& node, uint32_t index, double& r) const {
-  r = 0;
-  if (node.kind != NodeKind::kEvBottom) return pieceNet(tree_, patches_, index);
-  const EvBottom& bottom = tree_.evBottoms[node.payload];
-  BezierNet g;
-  for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
-  r = node.standInBound;
-  return g;
-}
 
 // Takes a flat bound where it beats the pair so far (keepFlatBound), rounded up to floats.
 void keepFlat(const FlatPairBound& flat, const Vec3d corners[4], NodePair& pair) {
@@ -147,7 +135,7 @@ void Tightener::gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64
     return;
   }
   double r;
-  const BezierNet net = netOrStandIn(node, index, r);
+  const BezierNet net = netOrStandIn(tree_, patches_, index, r);
   for (int b = 0; b <= span; ++b) {
     for (int a = 0; a <= span; ++a) {
       grid[i0 + a + DiagonalMap::kPoints * (j0 + b)] = evaluateBezier(net.data(), double(a) / span, double(b) / span).position;
@@ -186,7 +174,7 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
     return;
   }
   double r;
-  const BezierNet net = netOrStandIn(node, index, r);
+  const BezierNet net = netOrStandIn(tree_, patches_, index, r);
   const std::array<double, 4>& b = kept_.ownBows[index];
   const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
                     x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
@@ -220,7 +208,7 @@ void Tightener::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, 
     return;
   }
   double r;
-  const BezierNet net = netOrStandIn(node, index, r);
+  const BezierNet net = netOrStandIn(tree_, patches_, index, r);
   gather.addNet(net, r, on);
 }
 

@@ -34,6 +34,17 @@ BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t in
   return bsplineToRootBezier(net, orientation, Vec3d(patches.rings.centers[leaf.ring]));
 }
 
+BezierNet netOrStandIn(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, double& r) {
+  const SurfaceNode& node = tree.nodes[index];
+  r = 0;
+  if (node.kind != NodeKind::kEvBottom) return pieceNet(tree, patches, index);
+  const EvBottom& bottom = tree.evBottoms[node.payload];
+  BezierNet g;
+  for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
+  r = node.standInBound;
+  return g;
+}
+
 // Relative to the ring's centre: deep levels are tiny next to the model, and kept relative they
 // keep their precision.
 void gatherFasLeafNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t fasLeaf, Vec3 net[16]) {

@@ -15,6 +15,8 @@ namespace tessera {
 
 // The Bézier net, in root orientation, of a leaf (regular or FAS).
 BezierNet pieceNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
+// A leaf's net (r = 0), or an EV bottom's stand-in g with its bound r: sup ‖f − g‖ ≤ r.
+BezierNet netOrStandIn(const SurfaceTree& tree, const PatchSet& patches, uint32_t node, double& r);
 // FAS leaf `fasLeaf`'s B-spline net in its piece frame, relative to its ring's centre, as
 // evaluation reads it (gathered from the ring's refined level).
 void gatherFasLeafNet(const SurfaceTree& tree, const PatchSet& patches, uint32_t fasLeaf, Vec3 net[16]);

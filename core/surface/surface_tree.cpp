@@ -213,17 +213,6 @@ BezierNet TreeBuilder::leafNet(const SurfaceNode& node) const {
   return pieceNet(tree_, patches_, uint32_t(&node - tree_.nodes.data()));
 }
 
-// A leaf's net (r = 0), or an EV bottom's stand-in with its bound r.
-BezierNet TreeBuilder::netOrStandIn(const SurfaceNode& node, double& r) const {
-  r = 0;
-  if (node.kind != NodeKind::kEvBottom) return leafNet(node);
-  const EvBottom& bottom = tree_.evBottoms[node.payload];
-  BezierNet g;
-  for (int k = 0; k < 16; ++k) g[k] = Vec3d(bottom.g[k]) + Vec3d(bottom.center);
-  r = node.standInBound;
-  return g;
-}
-
 namespace {
 
 void setCurvature(float out[3], const Curvature& m) {

@@ -95,7 +95,6 @@ class TreeBuilder {
   void leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
                             const std::vector<Ancestor>& path);
   BezierNet leafNet(const SurfaceNode& node) const;
-  BezierNet netOrStandIn(const SurfaceNode& node, double& r) const;
 
   void checkpointNow() const {
     if (checkpoint_) checkpoint_();

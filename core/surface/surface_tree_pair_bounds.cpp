@@ -98,7 +98,7 @@ void TreeBuilder::directPairBounds(uint32_t index, int level, uint64_t ix, uint6
   const SurfaceNode& node = tree_.nodes[index];
   if (node.isLeaf()) {
     double r;
-    const BezierNet net = netOrStandIn(node, r);
+    const BezierNet net = netOrStandIn(tree_, patches_, index, r);
     leafAgainstAncestors(index, net, r, level, ix, iy, path);
     return;
   }
