@@ -108,6 +108,26 @@ TEST(MeshValidation, CoordinatesMustBeFiniteAndWithinTheLimit) {
   EXPECT_NO_THROW(validateControlMesh(mesh));
 }
 
+// A mesh whose box is a point has no scale for a tolerance: refused by name, not left for the
+// first tessellation to fail on. Flat meshes and a single pair of distinct points are boxes.
+TEST(MeshValidation, AMeshWhoseVerticesAllCoincideIsRefused) {
+  ControlMesh mesh = makeCube();
+  for (Vec3& p : mesh.positions) p = Vec3(1.0f, 1.0f, 1.0f);
+  expectRefused(mesh, ErrorKind::kInvalidInput, "all 8 vertices coincide at (1, 1, 1): the mesh has an empty bounding box");
+  mesh.positions[5].z = 1.0f + 1e-6f;  // one vertex apart is a box (a thin one)
+  EXPECT_NO_THROW(validateControlMesh(mesh));
+
+  ControlMesh point;
+  point.positions = {Vec3(0.0f, 0.0f, 0.0f)};
+  point.faceSizes = {3};
+  point.faceVertices = {0, 0, 0};
+  expectRefused(point, ErrorKind::kInvalidInput, "the mesh's one vertex is at (0, 0, 0): the mesh has an empty bounding box");
+
+  ControlMesh flat = makeCube();
+  for (Vec3& p : flat.positions) p.z = 0.0f;  // a square, every face folded onto it
+  EXPECT_NO_THROW(validateControlMesh(flat));
+}
+
 TEST(MeshValidation, CreasesMustJoinTwoVerticesOfAFaceEdge) {
   ControlMesh mesh = makeCube();
   mesh.creases = {{0, 1, 1.0f}, {0, 8, 1.0f}};

@@ -101,6 +101,23 @@ void checkPositions(const ControlMesh& mesh, const MeshLimits& limits) {
   }
 }
 
+// A tolerance is a distance, given or scaled from the bounding-box diagonal (relative, pixels),
+// so a mesh whose box is a point has no scale: no tolerance means anything on it, and its limit
+// surface is that point. Refused here, so that the server refuses it at upload (not at its first
+// Tessellate) and the CLI names the same problem.
+void checkBoundingBox(const ControlMesh& mesh) {
+  const Vec3& first = mesh.positions[0];
+  for (const Vec3& p : mesh.positions) {
+    if (p.x != first.x || p.y != first.y || p.z != first.z) return;
+  }
+  const std::string where =
+      "(" + formatNumber(first.x) + ", " + formatNumber(first.y) + ", " + formatNumber(first.z) + ")";
+  const std::string which = mesh.vertexCount() == 1
+                                ? "the mesh's one vertex is at " + where
+                                : "all " + std::to_string(mesh.vertexCount()) + " vertices coincide at " + where;
+  throwInvalid(which + ": the mesh has an empty bounding box (its limit surface is that point), so no tolerance has a scale");
+}
+
 // Tags are named by kind and index ("crease 3"); the name is built only when there is an error.
 std::string tagName(const char* kind, size_t index) {
   std::string name = kind;  // appended: `kind + std::string` trips GCC 12's -Wrestrict (105651)
@@ -289,6 +306,7 @@ void validateControlMesh(const ControlMesh& mesh, const MeshLimits& limits) {
   checkFaceVertices(mesh);
   checkValences(mesh, limits);
   checkPositions(mesh, limits);
+  checkBoundingBox(mesh);
   checkCreases(mesh);
   checkCorners(mesh);
   checkHoles(mesh);
