@@ -10,6 +10,7 @@
 
 #include "core/base/error.h"
 #include "core/base/sha256.h"
+#include "server/calls/accuracy_limits.h"
 #include "server/calls/call_guard.h"
 #include "server/calls/memory_release.h"
 #include "server/calls/status_error.h"
@@ -269,6 +270,13 @@ grpc::Status RenderServiceImpl::Render(grpc::ServerContext* context,
     StreamWatch::Call call = streams_.open(*context, "Render");
     Watched watched(*writer, call);
     MeshHandle mesh(repository_, metadata);
+    if (settings.frame.accuracy.pixelAccurate()) {
+      // Pixels hold to the same floor as a tolerance, at each camera: every camera before any frame.
+      for (int i = 0; i < count; ++i) {
+        checkPixelsOnMesh(settings.frame.accuracy, cameras[size_t(i)], mesh.get(), fmt::format("cameras[{}]", i),
+                          limits_);
+      }
+    }
     const char* format = formatName(settings.encoding.format);
     for (int i = 0; i < count; ++i) {
       cancel.throwIfCancelled();
@@ -324,6 +332,8 @@ grpc::Status RenderServiceImpl::RenderSession(grpc::ServerContext* context, Sess
       FrameJob job{metadata.id, metadata.sha256, settings.frame, next->camera};
       EncodedFrame frame;
       try {
+        // The floor Render checks for every camera first, here as each camera comes.
+        checkPixelsOnMesh(settings.frame.accuracy, next->camera, mesh.get(), "camera", limits_);
         frame = makeFrame(mesh, job, settings.encoding, cancel);
       } catch (const OperationCancelled&) {
         throw;

@@ -98,4 +98,8 @@ void placeOnMesh(TessellationJob& job, const MeshMetadata& metadata, const Tesse
   job.accuracy = Accuracy::absolute(toleranceOnMesh(job.accuracy, field, metadata, limits));
 }
 
+void checkOnMesh(const TessellationJob& job, const ControlMesh& mesh, const TessellationLimits& limits) {
+  if (job.camera) checkPixelsOnMesh(job.accuracy, *job.camera, mesh, "pixel", limits);
+}
+
 }  // namespace tessera::server

@@ -1,7 +1,8 @@
 // Checks a TessellateRequest against the API's rules and the server's budgets and turns it into
 // a TessellationJob. Refusals name the field: INVALID_ARGUMENT for values that make no sense
-// (zero, negative, NaN, infinite, out of range), RESOURCE_EXHAUSTED for sensible values past a
-// budget (a tolerance finer than the server allows, too many triangles or pixels).
+// (zero, negative, NaN, infinite, out of range) and for an accuracy finer than the server ever
+// serves (min_relative_tolerance, in every mode; min_pixel_accuracy), which no retry changes;
+// RESOURCE_EXHAUSTED for a request past a work budget (max_triangles, too many pixels).
 #pragma once
 
 #include <cstdint>
@@ -22,5 +23,10 @@ TessellationJob checkTessellateRequest(const tessera::v1::TessellateRequest& req
 // mesh's bounding box and checked against it and the server's limits (toleranceOnMesh), and the
 // mesh's id and content hash.
 void placeOnMesh(TessellationJob& job, const MeshMetadata& metadata, const TessellationLimits& limits);
+
+// The job on the mesh's positions, once it is loaded and before any preprocessing: a pixel
+// accuracy held to min_relative_tolerance where it asks the most, at the mesh's nearest point
+// (checkPixelsOnMesh), as placeOnMesh holds a tolerance.
+void checkOnMesh(const TessellationJob& job, const ControlMesh& mesh, const TessellationLimits& limits);
 
 }  // namespace tessera::server

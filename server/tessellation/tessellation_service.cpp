@@ -114,6 +114,7 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
       job.memory = &slot;
       sendProgress(*writer, "loading", 0.0);
       std::shared_ptr<const ControlMesh> mesh = repository_.mesh(metadata);
+      checkOnMesh(job, *mesh, limits_);
       ProgressForwarder forward(*writer);
       job.reportProgress = [&](std::string_view stage, double fraction) { forward(stage, fraction); };
       try {

@@ -378,6 +378,16 @@ TEST_F(BadInputCatalogue, UploadsAreRefusedWithTheStatusAndProblemNamed) {
            h.mutable_options()->set_boundary_interpolation(v1::BOUNDARY_INTERPOLATION_NONE);
          }));
        }},
+      {"vertices that all coincide", grpc::StatusCode::INVALID_ARGUMENT,
+       "arrays: all 16 vertices coincide at (1, 1, 1): the mesh has an empty bounding box",
+       [&] {
+         MeshArrays m = good;
+         m.positions.assign(m.positions.size(), 1.0f);
+         return uploadStatus(arraysWith(m));
+       }},
+      {"OBJ vertices that all coincide", grpc::StatusCode::INVALID_ARGUMENT,
+       "all 4 vertices coincide at (2, 0, 0): the mesh has an empty bounding box",
+       [&] { return uploadStatus(objMessages("v 2 0 0\nv 2 0 0\nv 2 0 0\nv 2 0 0\nf 1 2 3 4\n")); }},
       {"more faces than the server allows", grpc::StatusCode::RESOURCE_EXHAUSTED,
        "faces; the limit is 2000", [&] { return uploadStatus(arraysWith(gridMesh(50, 0))); }},
       {"creases that would refine it into gigabytes", grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -458,9 +468,13 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
        [&] { return tessellateWith([](auto& r) { r.set_relative(1); }); }},
       {"NaN relative tolerance", grpc::StatusCode::INVALID_ARGUMENT, "relative: must be a finite",
        [&] { return tessellateWith([](auto& r) { r.set_relative(kNaN); }); }},
-      {"tolerance below the server's minimum", grpc::StatusCode::RESOURCE_EXHAUSTED,
+      // A floor no retry changes: INVALID_ARGUMENT, not RESOURCE_EXHAUSTED, in every mode.
+      {"tolerance below the server's minimum", grpc::StatusCode::INVALID_ARGUMENT,
        "min_relative_tolerance",
        [&] { return tessellateWith([](auto& r) { r.set_relative(1e-12); }); }},
+      {"absolute tolerance below the server's minimum", grpc::StatusCode::INVALID_ARGUMENT,
+       "absolute: a tolerance of 1e-08",
+       [&] { return tessellateWith([](auto& r) { r.set_absolute(1e-8); }); }},
       {"eta above 1", grpc::StatusCode::INVALID_ARGUMENT, "eta: must be in [0, 1)",
        [&] { return tessellateWith([](auto& r) { r.set_eta(1.5); }); }},
       {"NaN eta", grpc::StatusCode::INVALID_ARGUMENT, "eta",
@@ -516,6 +530,22 @@ TEST_F(BadInputCatalogue, TessellationRequestsAreChecked) {
       {"zero pixel accuracy", grpc::StatusCode::INVALID_ARGUMENT,
        "pixel_accuracy: must be positive",
        [&] { return tessellateWithCamera([](auto& p) { p.set_pixel_accuracy(0); }); }},
+      {"pixels finer than the server's min_pixel_accuracy", grpc::StatusCode::INVALID_ARGUMENT,
+       "pixel.pixel_accuracy: 0.01 is finer than the server's min_pixel_accuracy of 0.05",
+       [&] { return tessellateWithCamera([](auto& p) { p.set_pixel_accuracy(0.01); }); }},
+      // Issue 47: half a pixel through a 0.01-degree lens, 10 units away, asks ~3e-7 of the
+      // 5.7-unit grid's diagonal at its nearest corner, under min_relative_tolerance (1e-6).
+      {"a camera whose pixels ask below min_relative_tolerance", grpc::StatusCode::INVALID_ARGUMENT,
+       "pixel: pixel accuracy 0.5 px at this camera asks 3.1e-07 of the bounding-box diagonal at the mesh's "
+       "nearest point, finer than the server's minimum 1e-06 (min_relative_tolerance)",
+       [&] { return tessellateWithCamera([](auto& p) { p.mutable_camera()->set_fov_y_deg(1e-2); }); }},
+      {"the same camera at the coarsest pixels it allows", validCode(), validMessage(),
+       [&] {
+         return tessellateWithCamera([](auto& p) {
+           p.mutable_camera()->set_fov_y_deg(1e-2);
+           p.set_pixel_accuracy(4);
+         });
+       }},
       {"a valid request", validCode(), validMessage(),
        [&] { return tessellateWith([](auto&) {}); }},
       {"a uniform level without a tolerance", validCode(), validMessage(),

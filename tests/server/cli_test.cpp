@@ -130,8 +130,8 @@ TEST_F(CliTest, ErrorsPrintTheStatusCodeNameAndMessage) {
   EXPECT_FALSE(std::filesystem::exists(dir_.path() / "out.glb.partial"));
 
   CliRun tooFine = tessera("tessellate meshes/bigguy --tolerance 1e-9 --relative -o x.glb");
-  EXPECT_EQ(tooFine.code, kExitLimit) << tooFine.output;
-  EXPECT_TRUE(contains(tooFine.output, "RESOURCE_EXHAUSTED: relative:")) << tooFine.output;
+  EXPECT_EQ(tooFine.code, kExitInvalidInput) << tooFine.output;
+  EXPECT_TRUE(contains(tooFine.output, "INVALID_ARGUMENT: relative:")) << tooFine.output;
 
   CliRun noTolerance = tessera("tessellate meshes/bigguy -o x.glb");
   EXPECT_EQ(noTolerance.code, kExitUsage) << noTolerance.output;

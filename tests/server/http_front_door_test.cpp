@@ -137,7 +137,12 @@ TEST_F(HttpFrontDoor, RefusalsAreHttpStatusesWithTheApisMessages) {
       {"/v1/meshes/torus/tessellation.glb?relative=abc", 400, "INVALID_ARGUMENT", "relative: expects a number"},
       {"/v1/meshes/torus/tessellation.glb?relativ=1e-3", 400, "INVALID_ARGUMENT", "relativ"},
       {"/v1/meshes/torus/tessellation.glb?relative=1e-3&relative=1e-2", 400, "INVALID_ARGUMENT", "more than once"},
-      {"/v1/meshes/torus/tessellation.glb?relative=1e-12", 429, "RESOURCE_EXHAUSTED", "min_relative_tolerance"},
+      // Finer than the server ever serves: a 400, not a 429 that invites a retry.
+      {"/v1/meshes/torus/tessellation.glb?relative=1e-12", 400, "INVALID_ARGUMENT", "min_relative_tolerance"},
+      {"/v1/meshes/torus/tessellation.glb?eye=0,0,5&target=0,0,0&fov=1e-3", 400, "INVALID_ARGUMENT",
+       "finer than the server's minimum 1e-06 (min_relative_tolerance)"},
+      {"/v1/meshes/torus/frame.png?eye=0,0,5&target=0,0,0&fov=1e-3", 400, "INVALID_ARGUMENT",
+       "cameras[0]: pixel accuracy 0.5 px at this camera asks"},
       {"/v1/meshes/torus/tessellation.glb?eye=0,0,5&target=0,0,5", 400, "INVALID_ARGUMENT",
        "eye and target must be distinct"},
       {"/v1/meshes/torus/tessellation.glb?eye=0,0,5", 400, "INVALID_ARGUMENT", "target: is required"},

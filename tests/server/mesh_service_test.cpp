@@ -144,6 +144,16 @@ TEST_P(MeshServiceTest, SubdivisionRulesComeFromTheFileOrTheHeaderAndAreStored) 
   EXPECT_EQ(fromFile.mesh.options().crease_method(), v1::CREASE_METHOD_CHAIKIN);
   EXPECT_EQ(fromFile.mesh.options().triangle_subdivision(), v1::TRIANGLE_SUBDIVISION_CATMARK);
   EXPECT_EQ(fromFile.mesh.options().boundary_interpolation(), v1::BOUNDARY_INTERPOLATION_EDGE_ONLY);
+  // Chaikin creases are Far's business (docs/DECISIONS.md): the mesh tessellates like any other.
+  auto tessellation = v1::TessellationService::NewStub(server->channel());
+  v1::TessellateRequest request;
+  request.set_name("meshes/chaikin");
+  request.set_relative(1e-2);
+  Streamed chaikinGlb = tessellateOverGrpc(*tessellation, request);
+  ASSERT_TRUE(chaikinGlb.status.ok()) << chaikinGlb.status.error_message();
+  EXPECT_TRUE(chaikinGlb.problem.empty()) << chaikinGlb.problem;
+  ASSERT_TRUE(chaikinGlb.summary);
+  EXPECT_GT(chaikinGlb.summary->triangles(), 0);
 
   std::vector<v1::UploadMeshRequest> uniform = objUpload("chaikin-as-uniform", chaikin);
   uniform[0].mutable_header()->mutable_options()->set_crease_method(v1::CREASE_METHOD_UNIFORM);
