@@ -123,6 +123,10 @@ TEST(MeshValidation, AMeshWhoseVerticesAllCoincideIsRefused) {
   point.faceVertices = {0, 0, 0};
   expectRefused(point, ErrorKind::kInvalidInput, "the mesh's one vertex is at (0, 0, 0): the mesh has an empty bounding box");
 
+  ControlMesh far = point;  // named where the user put it, not relative to the origin kept aside
+  far.origin = Vec3d(1e6, 0, 0);
+  expectRefused(far, ErrorKind::kInvalidInput, "the mesh's one vertex is at (1e+06, 0, 0)");
+
   ControlMesh flat = makeCube();
   for (Vec3& p : flat.positions) p.z = 0.0f;  // a square, every face folded onto it
   EXPECT_NO_THROW(validateControlMesh(flat));

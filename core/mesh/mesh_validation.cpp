@@ -110,8 +110,8 @@ void checkBoundingBox(const ControlMesh& mesh) {
   for (const Vec3& p : mesh.positions) {
     if (p.x != first.x || p.y != first.y || p.z != first.z) return;
   }
-  const std::string where =
-      "(" + formatNumber(first.x) + ", " + formatNumber(first.y) + ", " + formatNumber(first.z) + ")";
+  const Vec3d at = Vec3d(first) + mesh.origin;  // as the user wrote it (the OBJ reader may move it)
+  const std::string where = "(" + formatNumber(at.x) + ", " + formatNumber(at.y) + ", " + formatNumber(at.z) + ")";
   const std::string which = mesh.vertexCount() == 1
                                 ? "the mesh's one vertex is at " + where
                                 : "all " + std::to_string(mesh.vertexCount()) + " vertices coincide at " + where;
