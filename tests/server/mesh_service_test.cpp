@@ -146,10 +146,10 @@ TEST_P(MeshServiceTest, SubdivisionRulesComeFromTheFileOrTheHeaderAndAreStored) 
   EXPECT_EQ(fromFile.mesh.options().boundary_interpolation(), v1::BOUNDARY_INTERPOLATION_EDGE_ONLY);
   // Chaikin creases are Far's business (docs/DECISIONS.md): the mesh tessellates like any other.
   auto tessellation = v1::TessellationService::NewStub(server->channel());
-  v1::TessellateRequest request;
-  request.set_name("meshes/chaikin");
-  request.set_relative(1e-2);
-  Streamed chaikinGlb = tessellateOverGrpc(*tessellation, request);
+  v1::TessellateRequest tessellate;
+  tessellate.set_name("meshes/chaikin");
+  tessellate.set_relative(1e-2);
+  Streamed chaikinGlb = tessellateOverGrpc(*tessellation, tessellate);
   ASSERT_TRUE(chaikinGlb.status.ok()) << chaikinGlb.status.error_message();
   EXPECT_TRUE(chaikinGlb.problem.empty()) << chaikinGlb.problem;
   ASSERT_TRUE(chaikinGlb.summary);
