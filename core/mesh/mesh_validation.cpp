@@ -111,11 +111,16 @@ void checkBoundingBox(const ControlMesh& mesh) {
     if (p.x != first.x || p.y != first.y || p.z != first.z) return;
   }
   const Vec3d at = Vec3d(first) + mesh.origin;  // as the user wrote it (the OBJ reader may move it)
-  const std::string where = "(" + formatNumber(at.x) + ", " + formatNumber(at.y) + ", " + formatNumber(at.z) + ")";
-  const std::string which = mesh.vertexCount() == 1
-                                ? "the mesh's one vertex is at " + where
-                                : "all " + std::to_string(mesh.vertexCount()) + " vertices coincide at " + where;
-  throwInvalid(which + ": the mesh has an empty bounding box (its limit surface is that point), so no tolerance has a scale");
+  // Appended, not `"..." + std::string`: that trips GCC 12's -Wrestrict (105651).
+  std::string message = mesh.vertexCount() == 1 ? std::string("the mesh's one vertex is at (")
+                                                : "all " + std::to_string(mesh.vertexCount()) + " vertices coincide at (";
+  message += formatNumber(at.x);
+  message += ", ";
+  message += formatNumber(at.y);
+  message += ", ";
+  message += formatNumber(at.z);
+  message += "): the mesh has an empty bounding box (its limit surface is that point), so no tolerance has a scale";
+  throwInvalid(message);
 }
 
 // Tags are named by kind and index ("crease 3"); the name is built only when there is an error.
