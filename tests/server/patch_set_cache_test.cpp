@@ -23,6 +23,7 @@
 #include "core/base/sha256.h"
 #include "core/mesh/control_mesh.h"
 #include "core/mesh/mesh_codec.h"
+#include "tests/server/gate.h"
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
 
@@ -48,24 +49,7 @@ std::string contentSha256(const ControlMesh& mesh) {
   return sha256Hex(encodeCanonicalMesh(mesh));
 }
 
-// A gate a test opens once; waiting for it never takes more than 10 s (a test that hangs fails).
-class Gate {
- public:
-  void open() {
-    std::lock_guard lock(mutex_);
-    open_ = true;
-    opened_.notify_all();
-  }
-  bool wait() {
-    std::unique_lock lock(mutex_);
-    return opened_.wait_for(lock, 10s, [&] { return open_; });
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable opened_;
-  bool open_ = false;
-};
+using test::Gate;
 
 // A waiter's token: polled only while the call waits for another's build, it opens `waiting` then.
 CancellationToken waiterToken(Gate& waiting, const std::atomic<bool>* cancelled = nullptr) {

@@ -23,6 +23,7 @@
 
 #include "server/calls/admission_control.h"
 #include "server/calls/status_error.h"
+#include "tests/server/gate.h"
 
 namespace tessera::server {
 namespace {
@@ -37,24 +38,7 @@ struct BadKey : std::runtime_error {
 using Flights = SingleFlight<std::string, std::string, BadKey>;
 using ValuePtr = Flights::ValuePtr;
 
-// A gate a test opens once; waiting for it never takes more than 10 s (a test that hangs fails).
-class Gate {
- public:
-  void open() {
-    std::lock_guard lock(mutex_);
-    open_ = true;
-    opened_.notify_all();
-  }
-  bool wait() {
-    std::unique_lock lock(mutex_);
-    return opened_.wait_for(lock, 10s, [&] { return open_; });
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable opened_;
-  bool open_ = false;
-};
+using test::Gate;
 
 // Where the builds store their values (the cache a real SingleFlight sits in front of).
 class Store {
