@@ -183,8 +183,8 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
 }
 
 // §3d over a node of several pieces: its descendants kFlatReach levels down stand in with their
-// corners grown by their direct pair bounds (not their tightened ones: those would tighten every
-// node below the first one read, and the result would depend on which requests came first), and
+// corners grown by their direct pair bounds (not their tightened ones, which would tighten, level
+// by level, every node below the first one a request reads: most of the tree at 10⁻³), and
 // along the node's sides with their corners grown by their bows; leaves above that with their
 // nets (EV bottoms' stand-ins grown by r).
 void Tightener::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const {
