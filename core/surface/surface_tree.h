@@ -26,10 +26,10 @@ namespace tessera {
 // every tolerance the server admits.
 inline constexpr double kChainFloor = 1e-7;
 // A request at relative tolerance ε needs EV chains whose deepest stand-ins are within
-// kChainServes·ε: below that the planner stops in them with the same tiles (at 1e-2 and 1e-3, the
-// paper's models and the OpenSubdiv shapes make the same triangles with chains to 10⁻² ε as to
-// 10⁻⁷ of the diagonal, bench/COLD-RESULTS.md). Trees are built ten times deeper than that
-// (kChainBuilt), on powers of ten, so that nearby tolerances and an encoding's reserve share one.
+// kChainServes·ε: below that the planner stops in them with nearly the same tiles (measured in
+// docs/ADAPTIVE.md §1a). Trees are built ten times deeper than that (kChainBuilt), on powers of
+// ten, which made the same tiles wherever measured, and so that nearby tolerances and an
+// encoding's reserve share one.
 inline constexpr double kChainServes = 1e-2;
 inline constexpr double kChainBuilt = 1e-3;
 
