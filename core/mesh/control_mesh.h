@@ -4,6 +4,7 @@
 // Plain arrays in, so the OBJ reader, the gRPC upload and tests all build the same thing.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -87,6 +88,15 @@ struct ControlMesh {
   bool hasOrigin() const { return origin.x != 0 || origin.y != 0 || origin.z != 0; }
   int vertexCount() const { return static_cast<int>(positions.size()); }
   int faceCount() const { return static_cast<int>(faceSizes.size()); }
+  // The box of the control points (relative to `origin`; a point at the origin when there are
+  // none), which holds the limit surface: Catmull-Clark's masks are convex combinations.
+  void bounds(Vec3& lo, Vec3& hi) const {
+    lo = hi = positions.empty() ? Vec3() : positions[0];
+    for (const Vec3& p : positions) {
+      lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+      hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+    }
+  }
 };
 
 // Size limits a mesh must respect; the server can lower them per deployment.

@@ -1,7 +1,5 @@
 #include "core/pipeline/preprocessing.h"
 
-#include <algorithm>
-
 #include "core/surface/adaptive_surface.h"
 #include "core/surface/tolerance_model.h"
 #include "core/topology/refinement_input.h"
@@ -19,11 +17,8 @@ PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& opti
 
 double finestRelativeTolerance(const ControlMesh& mesh, const TessellationOptions& options) {
   if (options.accuracy.uniform() || mesh.positions.empty()) return 0;
-  Vec3 lo = mesh.positions[0], hi = lo;
-  for (const Vec3& p : mesh.positions) {
-    lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
-    hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
-  }
+  Vec3 lo, hi;
+  mesh.bounds(lo, hi);
   const double diagonal = length(Vec3d(hi) - Vec3d(lo));
   if (!(diagonal > 0)) return 0;
   // The surface is relative to the mesh's origin; a camera is in model units (tessellate.h).

@@ -19,7 +19,6 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The user path for a tolerance: tiles over the surface tree (docs/ADAPTIVE.md).
 // A tree whose chains stop short of what the request needs would leave tiles around EVs that
 // cannot meet ε: a caller that preprocessed for a coarser tolerance (PreprocessingOptions) is a bug.
 void requireDepthFor(const PatchSet& patches, const TessellationOptions& options) {
@@ -35,6 +34,7 @@ void requireDepthFor(const PatchSet& patches, const TessellationOptions& options
                          " of it: preprocess for the request (PreprocessingOptions::finestRelativeTolerance)");
 }
 
+// The user path for a tolerance: tiles over the surface tree (docs/ADAPTIVE.md).
 TessellationResult tessellateToTolerance(const PatchSet& patches, const TessellationOptions& options) {
   const AdaptiveSurface& surface = *patches.adaptive;
   requireDepthFor(patches, options);

@@ -309,12 +309,7 @@ PatchSet PatchSetBuilder::build() {
     if (result_.rings.sectorOwned[i]) refinedBaseFaces.insert(result_.rings.sectorDomains[i].baseFace);
   }
   result_.stats.locallyRefinedFaces = static_cast<int>(refinedBaseFaces.size());
-  Vec3 lo = mesh_.positions.empty() ? Vec3() : mesh_.positions[0], hi = lo;
-  for (const Vec3& p : mesh_.positions) {
-    lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
-    hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
-  }
-  result_.boundsMin = lo, result_.boundsMax = hi;
+  mesh_.bounds(result_.boundsMin, result_.boundsMax);
   if (mesh_.hasUvs()) result_.uvs = std::make_shared<const LimitUvs>(mesh_);
   return std::move(result_);
 }
