@@ -3,7 +3,6 @@
 // The dearer ones (§3b's diagonal maps, §3c, §3d) wait for a request (pair_tightening.h).
 #include <algorithm>
 #include <bit>
-#include <optional>
 
 #include "core/bounds/graded_pair_bound.h"
 #include "core/math/bicubic.h"
