@@ -1,7 +1,7 @@
-// The pair bounds a request tightens on first read (core/surface/pair_tightening.h): the same
-// whatever order and however many threads read them, never looser than the bounds the tree was
-// built with, never below the lower bound the planner skips by, and a GLB that does not depend
-// on which requests came first.
+// The pair bounds a request computes on first read (core/surface/pair_tightening.h), direct and
+// tightened: the same whatever order and however many threads read them, each stage never looser
+// than the one before it nor than the bounds the tree was built with, never below the lower bound
+// the planner skips by, and a GLB that does not depend on which requests came first.
 #include "core/surface/pair_tightening.h"
 
 #include <gtest/gtest.h>
@@ -39,14 +39,18 @@ TEST(PairTightening, TheSameBoundsInAnyOrderAndOnManyThreads) {
   const SurfaceTree& a = forward.adaptive->tree;
   const SurfaceTree& b = backward.adaptive->tree;
   const size_t n = a.nodes.size();
-  std::vector<NodePair> inOrder(n), concurrent(n);
+  std::vector<NodePair> inOrder(n), concurrent(n), directInOrder(n), directConcurrent(n);
   for (size_t i = 0; i < n; ++i) inOrder[i] = pairOf(a, forward, uint32_t(i));
+  for (size_t i = 0; i < n; ++i) directInOrder[i] = directPairOf(a, forward, uint32_t(i));
+  // Backwards, the direct bounds of the deep nodes first, then their ancestors'.
   tbb::parallel_for(size_t(0), n, [&](size_t k) {
     const uint32_t i = uint32_t(n - 1 - k);
+    directConcurrent[i] = directPairOf(b, backward, i);
     concurrent[i] = pairOf(b, backward, i);
   });
   int leaves = 0, internal = 0, tighter = 0;
   for (size_t i = 0; i < n; ++i) {
+    ASSERT_TRUE(samePair(directInOrder[i], directConcurrent[i])) << "node " << i;
     ASSERT_TRUE(samePair(inOrder[i], concurrent[i])) << "node " << i;
     const PairTightening::Deferred deferred = a.tightening.deferred(uint32_t(i));
     leaves += deferred == PairTightening::Deferred::kLeaf;
@@ -64,12 +68,19 @@ TEST(PairTightening, NeverLooserAndNeverBelowTheLowerBound) {
   const ControlMesh mesh = cubes();
   const PatchSet set = buildPatchSet(mesh);
   const SurfaceTree& tree = set.adaptive->tree;
+  int directs = 0;
   for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+    const NodePair direct = directPairOf(tree, set, i);
     const NodePair tight = pairOf(tree, set, i);
-    EXPECT_LE(tight.pair, tree.nodes[i].pairBound) << "node " << i;
-    if (tree.tightening.deferred(i) == PairTightening::Deferred::kNone) continue;
+    EXPECT_LE(direct.pair, tree.nodes[i].pairBound) << "node " << i;
+    EXPECT_LE(tight.pair, direct.pair) << "node " << i;
+    for (int k = 0; k < 4; ++k) EXPECT_LE(direct.bows[k], tree.nodes[i].sideBow[k]) << "node " << i;
+    const bool deferred = tree.tightening.directDeferred(i) || tree.tightening.deferred(i) != PairTightening::Deferred::kNone;
+    if (!deferred) continue;
+    directs += tree.tightening.directDeferred(i) && direct.pair < tree.nodes[i].pairBound;
     EXPECT_TRUE(tree.tightening.mayReach(i, tight.pair)) << "node " << i;
   }
+  EXPECT_GT(directs, 0);  // the pieces took off something from the stand-ins' bounds somewhere
 }
 
 // The planner tightens what it reads: a cold request, a warm one after it, and one on a tree whose

@@ -112,7 +112,10 @@ class Planner {
     double bows[4] = {0, 0, 0, 0};  // what points on each side add (docs/ADAPTIVE.md §3)
     uint8_t diagonal = 0;  // the diagonal pair and bows need (SurfaceNode::pairDiagonal)
     bool pairKnown = true;  // below a leaf, pair and bows are computed when a (1, 1) grid may do
-    bool pairTight = true;  // a deferred pair is tightened when it may serve (pair_tightening.h)
+    // How far the pair is computed: the build's fields (an internal node's stand-in), the direct
+    // bounds over its pieces, the tightened ones (pair_tightening.h). Each stage is computed
+    // only where the one before does not serve and the node's lower bound leaves room.
+    enum class PairStage : uint8_t { kStandIn, kDirect, kTight } pairStage = PairStage::kTight;
     bool onePiece = false;  // the square lies in one bicubic piece (a leaf or below one)
     bool edgesKnown = false;  // below a leaf, `edges` is computed when a grid may use it
     EdgeCurvature edges;      // below a leaf: §2a's data of the net (leaves keep theirs in the tree)
@@ -133,6 +136,7 @@ class Planner {
   Rates settledGridFor(Candidate& c, double epsilon, int minRate) const;
   Rates pairOrSettledGrid(Candidate& c, double epsilon) const;
   bool pairMayServe(Candidate& c, double epsilon) const;
+  void nextPairStage(Candidate& c) const;
   Rates edgeGridFor(Candidate& c, const Rates& curvatureRates, double epsilon) const;
   Rates evGridFor(const NodeSquare& n, double epsilon, int minRate) const;
   bool touchesPinchedCorner(const Candidate& c) const;
@@ -148,9 +152,10 @@ class Planner {
   const PatchSet& patches_;
   const TessellationOptions& options_;
   const ToleranceModel tolerance_;
-  // The current root's pinched corners (beginRoot sets them), whether optimistic one-cell
-  // tiles are off and whether quadrants are merged (planSquare).
+  // The current root's pinched corners and whether it is a triangle's sub-face (beginRoot sets
+  // them), whether optimistic one-cell tiles are off and whether quadrants are merged (planSquare).
   mutable uint8_t rootPinched_ = 0;
+  mutable bool rootInTriangle_ = false;
   mutable bool conservative_ = false;
   mutable bool merging_ = true;
 };
@@ -163,8 +168,11 @@ void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
   c.standIn = node.standInBound;
   c.gm = node.standInCurvatureBound();
   const PairTightening& tightening = tree_.tightening;
-  c.pairTight = tightening.deferred(n.node) == PairTightening::Deferred::kNone || tightening.known(n.node);
-  setPair(c, c.pairTight ? pairOf(tree_, patches_, n.node) : node.pairFields());
+  const bool tightens = tightening.deferred(n.node) != PairTightening::Deferred::kNone;
+  c.pairStage = tightening.directDeferred(n.node) ? Candidate::PairStage::kStandIn
+                : tightens                          ? Candidate::PairStage::kDirect
+                                                    : Candidate::PairStage::kTight;
+  setPair(c, node.pairFields());
   c.onePiece = node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
@@ -191,7 +199,7 @@ void Planner::fillQuadrant(const Candidate& parent, int q, Candidate& c) const {
   c.standIn = 0;
   c.gm = c.m;
   c.pairKnown = false;
-  c.pairTight = true;  // its pair is its own (pairKnown), not the leaf's
+  c.pairStage = Candidate::PairStage::kTight;  // its pair is its own (pairKnown), not the leaf's
   c.onePiece = true;
   // The box serves only a camera's depth (epsilonOf).
   if (!tolerance_.pixelAccurate()) return;
@@ -312,15 +320,31 @@ bool Planner::touchesPinchedCorner(const Candidate& c) const {
   return false;
 }
 
-// Whether the (1, 1) grid's pair bound can be within ε, computing it below a leaf only when the
-// gap at the centre (a lower bound of it) leaves room, and the side bows only when it is.
+void Planner::nextPairStage(Candidate& c) const {
+  const uint32_t node = c.real.node;
+  if (c.pairStage == Candidate::PairStage::kStandIn) {
+    setPair(c, directPairOf(tree_, patches_, node));
+    const bool tightens = tree_.tightening.deferred(node) != PairTightening::Deferred::kNone;
+    c.pairStage = tightens ? Candidate::PairStage::kDirect : Candidate::PairStage::kTight;
+    return;
+  }
+  setPair(c, pairOf(tree_, patches_, node));
+  c.pairStage = Candidate::PairStage::kTight;
+}
+
+// Whether the (1, 1) grid's pair bound can be within ε. A node's pair is computed stage by stage
+// (Candidate::pairStage) only while the stage so far does not serve with its bows and the node's
+// lower bound, which no stage goes below, leaves room; below a leaf it is computed only when the
+// gap at the centre (a lower bound of it) leaves room, and the side bows only when it is. Every
+// stage is a bound, so whichever serves first, the tile's bound holds; and a stage's values do not
+// depend on what earlier requests computed, so neither does the plan.
 bool Planner::pairMayServe(Candidate& c, double epsilon) const {
-  if (!c.pairTight) {
-    // Tightening only lowers the pair, and never below the leaf's lower bound: where that is
-    // above ε the pair cannot serve, tightened or not.
+  while (c.pairStage != Candidate::PairStage::kTight) {
+    // A triangular face's sub-faces, whole, may be joined into one triangle by their bounds'
+    // size (core/stitching/face_triangles.h): theirs is the tightest.
+    if (c.pairWithBows() <= epsilon && !(rootInTriangle_ && c.level == 0)) return true;
     if (c.pair > epsilon && !tree_.tightening.mayReach(c.real.node, epsilon)) return false;
-    setPair(c, pairOf(tree_, patches_, c.real.node));
-    c.pairTight = true;
+    nextPairStage(c);
   }
   if (!c.pairKnown) {
     if (centreGap(c.net) > epsilon) return false;
@@ -525,6 +549,7 @@ void Planner::beginRoot(uint32_t root) const {
   const SurfaceRoot& r = tree_.roots[root];
   const SeamTopology& seams = patches_.adaptive->seams;
   rootPinched_ = 0;
+  rootInTriangle_ = seams.faceSizes[r.baseFace] == 3;
   if (r.subFace < 0) {
     for (int k = 0; k < 4; ++k) rootPinched_ |= uint8_t(seams.pinched(r.baseFace, k) << k);
   } else {

@@ -23,23 +23,31 @@ using surface_tree_building::kFlatReach;
 using surface_tree_building::roundUp;
 
 PairTightening::PairTightening(size_t nodes)
-    : size_(nodes),
+    : corners(nodes),
+      ownPair(nodes, 0),
+      ownBows(nodes, {0, 0, 0, 0}),
+      size_(nodes),
       state_(std::make_unique<std::atomic<uint8_t>[]>(nodes)),
       pairs_(std::make_unique<NodePair[]>(nodes)),
+      directState_(std::make_unique<std::atomic<uint8_t>[]>(nodes)),
+      direct_(std::make_unique<DirectBounds[]>(nodes)),
       lowerBounds_(nodes, 0),
       deferred_(nodes, Deferred::kNone),
-      directPair_(nodes, 0),
-      directBows_(nodes, {0, 0, 0, 0}) {}
+      directDeferred_(nodes, 0) {}
+
+void PairTightening::roundDown(double lower, float& out) {
+  const float f = float(lower);
+  out = double(f) > lower ? std::nextafter(f, 0.0f) : f;
+}
 
 void PairTightening::defer(uint32_t node, Deferred what, double lower) {
   deferred_[node] = what;
-  const float f = float(lower);
-  lowerBounds_[node] = double(f) > lower ? std::nextafter(f, 0.0f) : f;
+  roundDown(lower, lowerBounds_[node]);
 }
 
-void PairTightening::setDirect(uint32_t node, double pair, const std::array<double, 4>& bows) {
-  directPair_[node] = pair;
-  directBows_[node] = bows;
+void PairTightening::deferDirect(uint32_t node, double lower) {
+  directDeferred_[node] = 1;
+  roundDown(lower, lowerBounds_[node]);
 }
 
 void PairTightening::publish(uint32_t node, const NodePair& pair) const {
@@ -49,10 +57,17 @@ void PairTightening::publish(uint32_t node, const NodePair& pair) const {
   state_[node].store(kDone, std::memory_order_release);
 }
 
+void PairTightening::publishDirect(uint32_t node, const DirectBounds& direct) const {
+  uint8_t expected = kEmpty;
+  if (!directState_[node].compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) return;
+  direct_[node] = direct;
+  directState_[node].store(kDone, std::memory_order_release);
+}
+
 size_t PairTightening::bytes() const {
-  const size_t perNode = sizeof(std::atomic<uint8_t>) + sizeof(NodePair) + sizeof(float) + sizeof(Deferred) +
-                         sizeof(double) + sizeof(std::array<double, 4>) + sizeof(std::array<Vec3d, 4>) +
-                         sizeof(double) + sizeof(std::array<double, 4>);
+  const size_t perNode = sizeof(std::array<Vec3d, 4>) + sizeof(double) + sizeof(std::array<double, 4>) +
+                         2 * sizeof(std::atomic<uint8_t>) + sizeof(NodePair) + sizeof(DirectBounds) + sizeof(float) +
+                         sizeof(Deferred) + sizeof(uint8_t);
   return sizeof(*this) + size_ * perNode;
 }
 
@@ -163,8 +178,9 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
   const double scale = exp2i(-depth), x0 = double(ix) * scale, y0 = double(iy) * scale;
   if (depth == kDiagonalReach + 1) {
     const std::array<Vec3d, 4>& c = kept_.corners[index];
-    const std::array<double, 4>& b = kept_.ownBows[index];
-    const LeafOwn stand{{c[0], c[1], c[2], c[3]}, x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
+    const DirectBounds own = directBoundsOf(tree_, patches_, index);
+    const std::array<double, 4>& b = own.ownBows;
+    const LeafOwn stand{{c[0], c[1], c[2], c[3]}, x0, y0, scale, own.own, {b[0], b[1], b[2], b[3]}};
     return pieceAgainstDiagonal(nullptr, 0, stand, x0, y0, scale, map, pair, bows);
   }
   if (!node.isLeaf()) {
@@ -197,7 +213,7 @@ void Tightener::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, 
     return;
   }
   if (!node.isLeaf()) {
-    const NodePair stands = node.pairFields();
+    const NodePair stands = directPairOf(tree_, patches_, index);
     const std::array<Vec3d, 4>& c = kept_.corners[index];
     for (int k = 0; k < 4; ++k) {
       gather.addPoint(c[k], stands.pair);
@@ -232,8 +248,9 @@ NodePair Tightener::internal(uint32_t index) const {
   for (int q = 0; q < 4; ++q) {
     againstDiagonal(node.firstChild + q, 1, uint64_t(q & 1), uint64_t(q >> 1), map, diagonalPair, diagonalBows);
   }
-  double bound = kept_.directPair(index);
-  std::array<double, 4> bows = kept_.directBows(index);
+  const DirectBounds direct = directBoundsOf(tree_, patches_, index);
+  double bound = direct.pair;
+  std::array<double, 4> bows = direct.bows;
   uint8_t kept = 0;
   if (diagonalPair < bound) {
     bound = diagonalPair * (1 + 1e-9), kept = uint8_t(1 + map.diagonal());
@@ -252,7 +269,7 @@ NodePair Tightener::internal(uint32_t index) const {
 NodePair pairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
   const PairTightening& tightening = tree.tightening;
   const PairTightening::Deferred deferred = tightening.deferred(index);
-  if (deferred == PairTightening::Deferred::kNone) return tree.nodes[index].pairFields();
+  if (deferred == PairTightening::Deferred::kNone) return directPairOf(tree, patches, index);
   if (tightening.known(index)) return tightening.cached(index);
   const Tightener tightener(tree, patches);
   const NodePair pair = deferred == PairTightening::Deferred::kLeaf ? tightener.leaf(index) : tightener.internal(index);

@@ -1,11 +1,12 @@
-// The surface tree's dearest pair bounds, computed where a request first reads them
-// (docs/ADAPTIVE.md §3b, §3c, §3d): an exact leaf's graded diagonal map and flat projection, and
-// an internal node's diagonal map and flat projection over its descendants. Computed for every
-// node while preprocessing they were most of a cold request's time (bigguy at 1e-3: 68 %), yet
-// a request reads only the nodes its plan descends to, and needs a node's tightened pair only
-// where it may be within ε. Each is computed from what the build keeps (the nodes' exact corner
-// values and their direct bounds at equal parameters) in the order the build computed it, so a
-// request gets the bounds the eager build gave, bit for bit.
+// The surface tree's pair bounds that wait for a request (docs/ADAPTIVE.md §1a): an internal
+// node's direct bounds over its pieces (§3, §3a), an exact leaf's graded diagonal map and flat
+// projection (§3c, §3d), and an internal node's diagonal map and flat projection over its
+// descendants (§3b, §3d). Computed for every node while preprocessing they were most of a cold
+// request's time (bigguy at 1e-3: 68 %), yet a request reads only the nodes its plan descends
+// to, and needs a node's tighter pair only where its looser one is not within ε. Each is computed
+// from what the build keeps (the nodes' exact corner values, the leaves' own bounds at equal
+// parameters) in the order the eager build computed it, so a request gets the bounds that build
+// gave, bit for bit.
 #pragma once
 
 #include <array>
@@ -29,9 +30,22 @@ struct NodePair {
   uint8_t diagonal = 0;
 };
 
-// What the build leaves for the tightening, and the tightened pairs as requests compute them.
-// Thread-safe: concurrent requests for one mesh may tighten one node twice (the same values,
-// deterministic), and the first to finish publishes it.
+// An internal node's direct bounds (§3 at equal parameters and §3a through its axis maps, over
+// its pieces), before rounding to floats: what its ancestors' diagonal maps stand it in with
+// (`own`, `ownBows`, at equal parameters, no twist) and what its own tightening starts from
+// (`pair`, `bows`), and the node's pair fields from them (`fields`).
+struct DirectBounds {
+  double own = 0;
+  std::array<double, 4> ownBows{};
+  double pair = 0;
+  std::array<double, 4> bows{};
+  NodePair fields;
+};
+
+// What the build leaves for the pair bounds a request computes, and those bounds as requests
+// compute them: an internal node's direct bounds (from its pieces), then, where deferred, the
+// tightened ones. Thread-safe: concurrent requests for one mesh may compute one node's bounds
+// twice (the same values, deterministic), and the first to finish publishes them.
 class PairTightening {
  public:
   enum class Deferred : uint8_t {
@@ -46,18 +60,17 @@ class PairTightening {
   // Set while building. `lower`: a lower bound of every pair bound of the node (the surface's
   // centre against the pair's planes), rounded down here.
   void defer(uint32_t node, Deferred what, double lower);
-  // An internal node's bounds after §3 and §3a, before rounding to floats (the diagonal map
-  // compares against them).
-  void setDirect(uint32_t node, double pair, const std::array<double, 4>& bows);
-  // Per node (moved in by the build): its exact corner values, and its direct bounds at equal
-  // parameters (a leaf's own; an internal node's gathered from its pieces), which it stands in
-  // with for its pieces.
+  // An internal node: its direct bounds wait for a request; `lower` as in defer().
+  void deferDirect(uint32_t node, double lower);
+  // Per node, set by the build: its exact corner values, and for leaves their own bounds at
+  // equal parameters (an internal node's are in its DirectBounds).
   std::vector<std::array<Vec3d, 4>> corners;
   std::vector<double> ownPair;
   std::vector<std::array<double, 4>> ownBows;
   double floor = 0;  // the tree's chain floor (SurfaceTree::floor)
 
   Deferred deferred(uint32_t node) const { return deferred_[node]; }
+  bool directDeferred(uint32_t node) const { return directDeferred_[node] != 0; }
   // Whether tightening `node` could bring its pair within `epsilon`; false guarantees that the
   // tightened pair is above it.
   bool mayReach(uint32_t node, double epsilon) const { return lowerBounds_[node] <= epsilon * (1 + 1e-6); }
@@ -65,20 +78,30 @@ class PairTightening {
   NodePair cached(uint32_t node) const { return pairs_[node]; }
   // Publishes `pair` as node's tightened bounds unless another thread did first.
   void publish(uint32_t node, const NodePair& pair) const;
-  double directPair(uint32_t node) const { return directPair_[node]; }
-  const std::array<double, 4>& directBows(uint32_t node) const { return directBows_[node]; }
+  bool directKnown(uint32_t node) const { return directState_[node].load(std::memory_order_acquire) == kDone; }
+  const DirectBounds& directCached(uint32_t node) const { return direct_[node]; }
+  // Publishes an internal node's direct bounds unless another thread did first.
+  void publishDirect(uint32_t node, const DirectBounds& direct) const;
   size_t bytes() const;
 
  private:
   static constexpr uint8_t kEmpty = 0, kWriting = 1, kDone = 2;
+  static void roundDown(double lower, float& out);
   size_t size_ = 0;
   std::unique_ptr<std::atomic<uint8_t>[]> state_;
   std::unique_ptr<NodePair[]> pairs_;
+  std::unique_ptr<std::atomic<uint8_t>[]> directState_;
+  std::unique_ptr<DirectBounds[]> direct_;
   std::vector<float> lowerBounds_;
   std::vector<Deferred> deferred_;
-  std::vector<double> directPair_;
-  std::vector<std::array<double, 4>> directBows_;
+  std::vector<uint8_t> directDeferred_;
 };
+
+// An internal node's direct bounds, computed on first read and kept; a leaf's own bounds.
+DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
+// The pair fields the build's direct bounds give (§3, §3a): the node's own fields, or an internal
+// node's from its pieces on first read.
+NodePair directPairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
 
 // The final pair bounds of any node of `tree`: tightened on first read where deferred.
 NodePair pairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);

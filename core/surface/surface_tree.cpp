@@ -291,13 +291,19 @@ void TreeBuilder::setBox(uint32_t index, const ChainStep* step) {
 // docs/ADAPTIVE.md §3: with B the bilinear interpolant of the corner values, any triangle of the
 // square with its vertices on the square's sides has ‖f − L‖ ≤ r + ‖g − B‖ + |twist|/4 + σ,
 // σ the largest bow ‖f − chord‖ of a side that carries a vertex other than its corners.
-void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const {
+// Returns ‖g − B‖ and g's bows from the chords, which are a leaf's own bounds (keepOwn).
+TreeBuilder::BilinearGap TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const {
   node.standInBound = roundUp(fit.r);
   setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
   const Vec3d twist = fit.corners[0] - fit.corners[1] + fit.corners[2] - fit.corners[3];
-  node.pairBound = roundUp((fit.r + splitNetDistance(fit.g, bilinearNet(fit.corners)) + length(twist) / 4) * (1 + 1e-9));
-  const std::array<double, 4> bows = chordBows(fit.g, fit.corners);
-  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp((fit.r + bows[side]) * (1 + 1e-9));
+  const BilinearGap gap = bilinearGap(fit.g, fit.corners);
+  node.pairBound = roundUp((fit.r + gap.split + length(twist) / 4) * (1 + 1e-9));
+  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp((fit.r + gap.chords[side]) * (1 + 1e-9));
+  return gap;
+}
+
+TreeBuilder::BilinearGap TreeBuilder::bilinearGap(const BezierNet& g, const Vec3d corners[4]) {
+  return {splitNetDistance(g, bilinearNet(corners)), chordBows(g, corners)};
 }
 
 // Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and
@@ -307,8 +313,9 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
   if (self.kind == NodeKind::kRegularLeaf || self.kind == NodeKind::kFasLeaf) {
     NodeFit fit = summarizeLeaf(self, level);
     tree_.edgeCurvature[index] = edgeCurvature(fit.g);
-    for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
-    setStandIn(tree_.nodes[index], fit, level);
+    for (int c = 0; c < 4; ++c) tree_.tightening.corners[index][c] = fit.corners[c];
+    // Its corners are its net's: its stand-in's gap is its own.
+    keepOwn(index, setStandIn(tree_.nodes[index], fit, level), 0);
     tree_.tightening.defer(index, PairTightening::Deferred::kLeaf, pairLowerBound(fit.g));
     return fit;
   }
@@ -329,7 +336,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
     }
   }
   SurfaceNode& node = tree_.nodes[index];
-  for (int c = 0; c < 4; ++c) corners_[index][c] = fit.corners[c];
+  for (int c = 0; c < 4; ++c) tree_.tightening.corners[index][c] = fit.corners[c];
   setBox(index, node.kind == NodeKind::kInternal ? nullptr : step);
   if (node.kind == NodeKind::kInternal) {
     Curvature m;
@@ -345,7 +352,36 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
     for (float& m : node.curvature) m = kInfinity;
   }
   setStandIn(node, fit, level);
+  if (node.isLeaf()) {
+    double r;
+    // The stand-in as evaluation reads it: in floats, with the bound rounded up.
+    const BezierNet g = netOrStandIn(tree_, patches_, index, r);
+    Vec3d corners[4];
+    for (int k = 0; k < 4; ++k) corners[k] = g[kCornerIndex[k]];
+    keepOwn(index, bilinearGap(g, corners), r);
+  } else {
+    deferPairs(index);
+  }
   return fit;
+}
+
+// A leaf's own bounds at equal parameters (its net against the bilinear of its corners, grown by
+// r): its ancestors' direct bounds start from them (direct_pair_bounds.cpp).
+void TreeBuilder::keepOwn(uint32_t index, const BilinearGap& gap, double r) {
+  tree_.tightening.ownPair[index] = r + gap.split;
+  for (int side = 0; side < 4; ++side) tree_.tightening.ownBows[index][side] = r + gap.chords[side];
+}
+
+// An internal node's pair fields are its stand-in's (setStandIn) until a request reads them:
+// its direct bounds wait, and where the node is coarser than kDiagonalFloor so do its diagonal
+// map (§3b) and flat projection (§3d).
+void TreeBuilder::deferPairs(uint32_t index) {
+  const SurfaceNode& node = tree_.nodes[index];
+  const std::array<Vec3d, 4>& c = tree_.tightening.corners[index];
+  // The surface's centre is the corner all four children share.
+  const double lower = pairLowerBound(c.data(), tree_.tightening.corners[node.firstChild][2]);
+  tree_.tightening.deferDirect(index, lower);
+  if (node.pairBound > kDiagonalFloor * floor_) tree_.tightening.defer(index, PairTightening::Deferred::kInternal, lower);
 }
 
 SurfaceTree TreeBuilder::build(double chainFloor) {
@@ -365,26 +401,16 @@ SurfaceTree TreeBuilder::build(double chainFloor) {
     tree_.roots[root].node = slot;
     fill(slot, 0, 0, 0, items[root]);
   }
-  corners_.resize(tree_.nodes.size());
   tree_.edgeCurvature.resize(tree_.nodes.size());
-  pair_.assign(tree_.nodes.size(), 0);
-  bow_.assign(tree_.nodes.size(), {0, 0, 0, 0});
-  pairReparam_.assign(tree_.nodes.size(), 0);
-  bowReparam_.assign(tree_.nodes.size(), {0, 0, 0, 0});
   tree_.tightening = PairTightening(tree_.nodes.size());
+  tree_.tightening.floor = floor_;
   // Roots are independent: every slot they write was allocated above.
   tbb::parallel_for(size_t(0), tree_.roots.size(), [&](size_t r) {
     const uint32_t root = tree_.roots[r].node;
     if (root == kNoNode) return;
     checkpointNow();
     summarize(root, 0);
-    std::vector<Ancestor> path;
-    directPairBounds(root, 0, 0, 0, path);
   });
-  tree_.tightening.corners = std::move(corners_);
-  tree_.tightening.ownPair = std::move(pair_);
-  tree_.tightening.ownBows = std::move(bow_);
-  tree_.tightening.floor = floor_;
   return std::move(tree_);
 }
 

@@ -1,7 +1,7 @@
-// The builder of the surface tree (surface_tree.h), shared by its two source files:
-// surface_tree.cpp builds the quadtree and each node's stand-in and curvature bounds,
-// surface_tree_pair_bounds.cpp each node's pair bound and side bows (docs/ADAPTIVE.md §3, §3a,
-// §3b). Internal to them.
+// The builder of the surface tree (surface_tree.h) and the constants the pair bounds it defers
+// share (pair_tightening.h): surface_tree.cpp builds the quadtree and each node's stand-in and
+// curvature bounds; direct_pair_bounds.cpp and pair_tightening.cpp compute the pair bounds that
+// wait for a request (docs/ADAPTIVE.md §1a, §3). Internal to the room.
 #pragma once
 
 #include <array>
@@ -11,7 +11,6 @@
 #include <limits>
 #include <vector>
 
-#include "core/bounds/axis_reparameterization.h"
 #include "core/surface/surface_tree.h"
 
 namespace tessera::surface_tree_building {
@@ -74,25 +73,16 @@ class TreeBuilder {
   NodeFit ringStandIn(const ChainStep& step, int level) const;
   NodeFit fitChildren(const NodeFit children[4]) const;
   void setBox(uint32_t node, const ChainStep* step);
-  void setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
-  struct Ancestor {
-    uint32_t node;
-    int level;
-    uint64_t ix, iy;
-    AxisMap u, v;  // the reparameterization of the geometric pair bound (§3a)
-
-    // A descendant's square [x, x + s] × [y, y + s] in this node's units.
-    void square(int level, uint64_t ix, uint64_t iy, double& x, double& y, double& s) const {
-      const int d = level - this->level;
-      s = std::ldexp(1.0, -d);
-      x = double(ix - (this->ix << d)) * s, y = double(iy - (this->iy << d)) * s;
-    }
+  // A net's deviation from the bilinear B of its corners at equal parameters: over the square
+  // (split along either diagonal) and from each side's chord (docs/ADAPTIVE.md §3).
+  struct BilinearGap {
+    double split;
+    std::array<double, 4> chords;
   };
-  void directPairBounds(uint32_t node, int level, uint64_t ix, uint64_t iy, std::vector<Ancestor>& path);
-  void gatherAxisSamples(uint32_t node, int depth, uint64_t ix, uint64_t iy, const std::array<Vec3d, 4>& c,
-                         AxisMapBuilder& u, AxisMapBuilder& v) const;
-  void leafAgainstAncestors(uint32_t index, const BezierNet& net, double r, int level, uint64_t ix, uint64_t iy,
-                            const std::vector<Ancestor>& path);
+  static BilinearGap bilinearGap(const BezierNet& g, const Vec3d corners[4]);
+  BilinearGap setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
+  void keepOwn(uint32_t index, const BilinearGap& gap, double r);
+  void deferPairs(uint32_t index);
   BezierNet leafNet(const SurfaceNode& node) const;
 
   void checkpointNow() const {
@@ -106,11 +96,6 @@ class TreeBuilder {
   std::vector<ChainStep> chainSteps_;  // EV quadrants being built: node index → step
   std::vector<int32_t> chainOf_;
 
-  // While building: each node's exact corner values, and the direct pair bounds and side bows
-  // gathered leaf by leaf (docs/ADAPTIVE.md §3).
-  std::vector<std::array<Vec3d, 4>> corners_;
-  std::vector<double> pair_, pairReparam_;
-  std::vector<std::array<double, 4>> bow_, bowReparam_;
   double floor_ = 0;       // kChainFloor of the diagonal: the bounds' thresholds scale with it
   double chainFloor_ = 0;  // where the EV chains stop, in model units
   // Per ring and level refineRings reached: what every sector's EV quadrant shares and costs
