@@ -117,8 +117,8 @@ class Planner {
     // only where the one before does not serve and the node's lower bound leaves room.
     enum class PairStage : uint8_t { kStandIn, kDirect, kTight } pairStage = PairStage::kTight;
     bool onePiece = false;  // the square lies in one bicubic piece (a leaf or below one)
-    bool edgesKnown = false;  // below a leaf, `edges` is computed when a grid may use it
-    EdgeCurvature edges;      // below a leaf: §2a's data of the net (leaves keep theirs in the tree)
+    bool edgesKnown = false;  // `edges` is computed when a grid may use it
+    EdgeCurvature edges;      // §2a's data of the net (a leaf's kept by the tree once computed)
     float lo[3], hi[3];
     double pairWithBows() const { return pair + *std::max_element(bows, bows + 4); }
     double size() const { return exp2i(-level); }
@@ -174,6 +174,7 @@ void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
                                                     : Candidate::PairStage::kTight;
   setPair(c, node.pairFields());
   c.onePiece = node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf;
+  c.edgesKnown = false;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);
   std::copy(node.boxMax, node.boxMax + 3, c.hi);
 }
@@ -201,6 +202,7 @@ void Planner::fillQuadrant(const Candidate& parent, int q, Candidate& c) const {
   c.pairKnown = false;
   c.pairStage = Candidate::PairStage::kTight;  // its pair is its own (pairKnown), not the leaf's
   c.onePiece = true;
+  c.edgesKnown = false;
   // The box serves only a camera's depth (epsilonOf).
   if (!tolerance_.pixelAccurate()) return;
   for (int a = 0; a < 3; ++a) {
@@ -360,11 +362,11 @@ bool Planner::pairMayServe(Candidate& c, double epsilon) const {
 // §2's form allows for ε scaled by how much tighter §2a is at the rates so far (the two forms
 // scale alike with the cells), kept only where §2a's bound holds.
 Rates Planner::edgeGridFor(Candidate& c, const Rates& curvatureRates, double epsilon) const {
-  if (c.below && !c.edgesKnown) {
-    c.edges = edgeCurvature(c.net);
+  if (!c.edgesKnown) {
+    c.edges = c.below ? edgeCurvature(c.net) : edgeCurvatureOf(tree_, patches_, c.real.node);
     c.edgesKnown = true;
   }
-  const EdgeCurvature& edges = c.below ? c.edges : tree_.edgeCurvature[c.real.node];
+  const EdgeCurvature& edges = c.edges;
   Rates best = curvatureRates, at = curvatureRates;
   for (int step = 0; step < 3; ++step) {
     const double tighter = gridTileBound(edges, at.ru, at.rv);

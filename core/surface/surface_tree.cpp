@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "core/base/error.h"
@@ -312,7 +313,6 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
   SurfaceNode& self = tree_.nodes[index];
   if (self.kind == NodeKind::kRegularLeaf || self.kind == NodeKind::kFasLeaf) {
     NodeFit fit = summarizeLeaf(self, level);
-    tree_.edgeCurvature[index] = edgeCurvature(fit.g);
     for (int c = 0; c < 4; ++c) tree_.tightening.corners[index][c] = fit.corners[c];
     // Its corners are its net's: its stand-in's gap is its own.
     keepOwn(index, setStandIn(tree_.nodes[index], fit, level), 0);
@@ -401,7 +401,8 @@ SurfaceTree TreeBuilder::build(double chainFloor) {
     tree_.roots[root].node = slot;
     fill(slot, 0, 0, 0, items[root]);
   }
-  tree_.edgeCurvature.resize(tree_.nodes.size());
+  tree_.edgeCurvature = ZeroedSlots<EdgeCurvature>(tree_.nodes.size());
+  tree_.edgeCurvatureState = ZeroedSlots<uint8_t>(tree_.nodes.size());
   tree_.tightening = PairTightening(tree_.nodes.size());
   tree_.tightening.floor = floor_;
   // Roots are independent: every slot they write was allocated above.
@@ -418,7 +419,7 @@ SurfaceTree TreeBuilder::build(double chainFloor) {
 
 size_t SurfaceTree::bytes() const {
   return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
-         nodes.size() * sizeof(SurfaceNode) + edgeCurvature.size() * sizeof(EdgeCurvature) + fasLeaves.size() * sizeof(FasLeaf) +
+         nodes.size() * (sizeof(SurfaceNode) + sizeof(EdgeCurvature) + 1) + fasLeaves.size() * sizeof(FasLeaf) +
          evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + refinedOffsets.size() * sizeof(size_t) +
          refinedLevels.size() * sizeof(float) + tightening.bytes();
 }
@@ -426,6 +427,19 @@ size_t SurfaceTree::bytes() const {
 SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, const std::function<void()>& checkpoint,
                              double chainFloor) {
   return surface_tree_building::TreeBuilder(patches, mesh, checkpoint).build(chainFloor);
+}
+
+EdgeCurvature edgeCurvatureOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node) {
+  constexpr uint8_t kWriting = 1, kDone = 2;
+  const std::atomic_ref state(tree.edgeCurvatureState[node]);
+  if (state.load(std::memory_order_acquire) == kDone) return tree.edgeCurvature[node];
+  const EdgeCurvature edges = edgeCurvature(pieceNet(tree, patches, node));
+  uint8_t expected = 0;
+  if (state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) {
+    tree.edgeCurvature[node] = edges;
+    state.store(kDone, std::memory_order_release);
+  }
+  return edges;
 }
 
 double chainFloorFor(double finestRelativeTolerance) {

@@ -14,6 +14,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/base/zeroed_slots.h"
 #include "core/bounds/edge_curvature.h"
 #include "core/math/bezier_net.h"
 #include "core/mesh/control_mesh.h"
@@ -106,8 +107,10 @@ struct SurfaceTree {
   std::vector<int> faceFirstRoot;  // base face → its first root
   std::vector<SurfaceNode> nodes;
   // Per node, for regular and FAS leaves (one bicubic piece each): docs/ADAPTIVE.md §2a's data of
-  // the piece over its square; default for other nodes.
-  std::vector<EdgeCurvature> edgeCurvature;
+  // the piece over its square, computed where a request first needs it (edgeCurvatureOf) and
+  // kept; a slot costs resident memory once written.
+  ZeroedSlots<EdgeCurvature> edgeCurvature;
+  ZeroedSlots<uint8_t> edgeCurvatureState;
   std::vector<FasLeaf> fasLeaves;
   std::vector<EvBottom> evBottoms;
   // Each ring refined through its chain: FAS level j ≥ 1 of ring r is its refined (12n+1) set,
@@ -131,6 +134,10 @@ struct SurfaceTree {
   bool serves(double relativeTolerance) const;
   size_t bytes() const;
 };
+
+// §2a's data of leaf `node`'s piece, computed on first read and kept (thread-safe: concurrent
+// readers may compute it twice, the same values).
+EdgeCurvature edgeCurvatureOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
 
 // The chain floor to build for requests down to `finestRelativeTolerance` (0: any request).
 double chainFloorFor(double finestRelativeTolerance);
