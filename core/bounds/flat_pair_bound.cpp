@@ -45,16 +45,16 @@ FlatGather::FlatGather(const Vec3d corners[4]) : low_(INFINITY), high_(-INFINITY
   }
 }
 
-// Distance to the convex quad: 0 inside.
+// Distance to the convex quad: 0 inside (most of a piece's points), else to its nearest side.
 double FlatGather::quadDistance(Point2 p) const {
   bool inside = true;
-  double nearest = INFINITY;
-  for (int k = 0; k < 4; ++k) {
-    inside = inside &&
-             cross2(minus(quad_[(k + 1) % 4], quad_[k]), minus(p, quad_[k])) * orientation_ >= 0;
-    nearest = std::min(nearest, segmentDistance(p, quad_[k], quad_[(k + 1) % 4]));
+  for (int k = 0; k < 4 && inside; ++k) {
+    inside = cross2(minus(quad_[(k + 1) % 4], quad_[k]), minus(p, quad_[k])) * orientation_ >= 0;
   }
-  return inside ? 0.0 : nearest;
+  if (inside) return 0.0;
+  double nearest = INFINITY;
+  for (int k = 0; k < 4; ++k) nearest = std::min(nearest, segmentDistance(p, quad_[k], quad_[(k + 1) % 4]));
+  return nearest;
 }
 
 // The distance to a convex set is convex, so the hull's points bound it over the surface.
