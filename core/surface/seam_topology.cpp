@@ -1,8 +1,10 @@
 #include "core/surface/seam_topology.h"
 
 #include <algorithm>
+#include <climits>
 #include <map>
 #include <numeric>
+#include <span>
 
 namespace tessera {
 
@@ -33,26 +35,33 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
     if (c.sharpness >= kInfiniteSharpness) sharpCorner[c.vertex] = 1;
   }
   for (int f : mesh.holes) hole[f] = 1;
-  // Faces at each (vertex, edge): the edge's faces as seen from that vertex.
-  std::map<std::pair<int, int>, std::vector<int>> edgeFaces;
+  // Each edge's faces, in face order: (edge, face) pairs sorted by edge, then face.
+  std::vector<std::pair<std::pair<int, int>, int>> edgeFaceList;
   for (int f = 0; f < int(faceSizes.size()); ++f) {
     if (hole[f]) continue;
-    for (int k = 0; k < faceSizes[f]; ++k) edgeFaces[ordered(corner(f, k), corner(f, k + 1))].push_back(f);
+    for (int k = 0; k < faceSizes[f]; ++k) edgeFaceList.push_back({ordered(corner(f, k), corner(f, k + 1)), f});
   }
+  std::sort(edgeFaceList.begin(), edgeFaceList.end());
+  auto edgeFaces = [&edgeFaceList](int a, int b) {
+    const std::pair<int, int> edge = ordered(a, b);
+    const auto first = std::lower_bound(edgeFaceList.begin(), edgeFaceList.end(), std::pair{edge, INT_MIN});
+    auto last = first;
+    while (last != edgeFaceList.end() && last->first == edge) ++last;
+    return std::span(first, last);
+  };
   cornerPinched.assign(faceVertices.size(), 0);
   for (int f = 0; f < int(faceSizes.size()); ++f) {
     if (hole[f]) continue;
     for (int k = 0; k < faceSizes[f]; ++k) {
       auto other = [&](int a, int b) {
-        const auto& shared = edgeFaces[ordered(a, b)];
-        for (int g : shared) {
+        for (const auto& [edge, g] : edgeFaces(a, b)) {
           if (g != f) return g;
         }
         return -1;
       };
       const int before = other(corner(f, k - 1), corner(f, k)), after = other(corner(f, k), corner(f, k + 1));
-      const bool manifold = edgeFaces[ordered(corner(f, k - 1), corner(f, k))].size() == 2 &&
-                            edgeFaces[ordered(corner(f, k), corner(f, k + 1))].size() == 2;
+      const bool manifold = edgeFaces(corner(f, k - 1), corner(f, k)).size() == 2 &&
+                            edgeFaces(corner(f, k), corner(f, k + 1)).size() == 2;
       // The face itself folds there: it comes back along the edge it left by (a → v → a), or an
       // edge there has collapsed to the vertex (v → v); its sides there are one curve or a point.
       const bool folded = corner(f, k - 1) == corner(f, k + 1) || corner(f, k - 1) == corner(f, k) ||
@@ -62,24 +71,30 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
   }
   std::vector<int> parent(faceSizes.size());
   cornerWedge.assign(faceVertices.size(), -1);
-  std::map<int, std::vector<int>> vertexFaces;
+  // Each vertex's faces, in face order (a face as often as it has the vertex as a corner).
+  std::vector<std::pair<int, int>> vertexFaceList;
   for (int f = 0; f < int(faceSizes.size()); ++f) {
     if (hole[f]) continue;
-    for (int k = 0; k < faceSizes[f]; ++k) vertexFaces[corner(f, k)].push_back(f);
+    for (int k = 0; k < faceSizes[f]; ++k) vertexFaceList.push_back({corner(f, k), f});
   }
-  for (const auto& [v, faces] : vertexFaces) {
+  std::sort(vertexFaceList.begin(), vertexFaceList.end());
+  std::vector<int> faces;
+  for (size_t at = 0; at < vertexFaceList.size();) {
+    const int v = vertexFaceList[at].first;
+    faces.clear();
+    for (; at < vertexFaceList.size() && vertexFaceList[at].first == v; ++at) faces.push_back(vertexFaceList[at].second);
     for (int f : faces) parent[f] = f;
     bool split = false;
     for (int f : faces) {
       for (int k = 0; k < faceSizes[f]; ++k) {
         if (corner(f, k) != v) continue;
         for (int w : {corner(f, k + 1), corner(f, k - 1)}) {
-          const auto& shared = edgeFaces[ordered(v, w)];
+          const auto shared = edgeFaces(v, w);
           if (sharpCorner[v] || sharp(v, w)) {
             split |= shared.size() > 1 || sharpCorner[v];
             continue;
           }
-          for (int g : shared) parent[findRoot(parent, g)] = findRoot(parent, f);
+          for (const auto& [edge, g] : shared) parent[findRoot(parent, g)] = findRoot(parent, f);
         }
       }
     }
