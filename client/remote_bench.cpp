@@ -10,8 +10,10 @@
 #include <set>
 
 #include "client/remote_bench_calls.h"
+#include "client/remote_bench_cold.h"
 #include "client/remote_bench_report.h"
 #include "client/remote_bench_runner.h"
+#include "client/remote_cold_copies.h"
 
 namespace tessera::cli {
 namespace {
@@ -54,6 +56,8 @@ struct BenchFlags {
   std::string timeout = "60s";
   bool sharedChannel = false;
   bool noVerify = false;
+  int64_t cold = 0;
+  int coldSeed = 0;
   std::string json;
   CLI::App* command = nullptr;  // to ask which flags were given
 
@@ -69,6 +73,8 @@ struct BenchPlan {
   int64_t warmup = 0;
   BenchRequests requests;
   std::vector<std::string> meshNames;
+  int64_t cold = 0;                     // cold requests per level (0: the mix)
+  std::vector<ColdSource> coldSources;  // read back from the server at setup
 };
 
 double parseNumber(std::string_view text, const char* flag) {
@@ -108,7 +114,7 @@ std::vector<std::pair<BenchOp, int>> parseMix(const std::string& text) {
   std::set<BenchOp> seen;
   for (const std::string& part : splitList(text)) {
     size_t eq = part.find('=');
-    std::optional<BenchOp> op = benchOpFromName(part.substr(0, eq));
+    std::optional<BenchOp> op = mixOpFromName(part.substr(0, eq));
     int weight = 1;
     if (eq != std::string::npos) {
       std::string_view w = std::string_view(part).substr(eq + 1);
@@ -175,12 +181,16 @@ BenchPlan makePlan(const BenchFlags& flags) {
   plan.mix = parseMix(flags.mix);
   plan.schedule = interleaveMix(plan.mix);
   plan.levels = parseLevels(flags);
-  const bool needsMesh = mixHas(plan.mix, BenchOp::kTessellate) || mixHas(plan.mix, BenchOp::kGet);
-  if (needsMesh && flags.meshes.empty()) {
-    throw UsageError("--mesh meshes/NAME is required for tessellate and get");
+  if (flags.cold < 0 || flags.cold > kMaxRequestsPerLevel) {
+    throw UsageError(fmt::format("--cold expects 1 to {} meshes", kMaxRequestsPerLevel));
+  }
+  plan.cold = flags.cold;
+  const bool tessellates = plan.cold > 0 || mixHas(plan.mix, BenchOp::kTessellate);
+  if ((tessellates || mixHas(plan.mix, BenchOp::kGet)) && flags.meshes.empty()) {
+    throw UsageError("--mesh meshes/NAME is required for tessellate, get and --cold");
   }
   for (const std::string& mesh : flags.meshes) plan.meshNames.push_back(asMeshName(mesh));
-  if (mixHas(plan.mix, BenchOp::kTessellate)) {
+  if (tessellates) {
     if (flags.tolerance <= 0 && flags.level <= 0) {
       throw UsageError(
           "tessellate needs --tolerance E (with --relative for a fraction of the "
@@ -200,9 +210,10 @@ BenchPlan makePlan(const BenchFlags& flags) {
     throw UsageError("--requests and --warmup must not be negative");
   }
   const bool haveDuration = !flags.duration.empty();
-  plan.limits.requests = flags.requests > 0 ? std::min(flags.requests, kMaxRequestsPerLevel)
-                         : haveDuration     ? kMaxRequestsPerLevel
-                                            : kDefaultRequests;
+  plan.limits.requests = plan.cold > 0        ? plan.cold
+                         : flags.requests > 0 ? std::min(flags.requests, kMaxRequestsPerLevel)
+                         : haveDuration       ? kMaxRequestsPerLevel
+                                              : kDefaultRequests;
   plan.limits.duration = haveDuration ? parseDuration(flags.duration, "--duration")
                                       : std::chrono::duration<double>(kDefaultLevelLimitSeconds);
   plan.warmup = std::min(flags.warmup, kMaxRequestsPerLevel);
@@ -233,8 +244,20 @@ void setupCall(const RemoteEndpoint& endpoint, const std::string& what, Call cal
   if (!status.ok()) throw SetupFailure{reportRpcError(what, status, &context)};
 }
 
+// Reads the run's meshes back for the cold mix to copy.
+std::vector<ColdSource> readColdSources(const RemoteEndpoint& endpoint, v1::MeshService::Stub& stub,
+                                        const BenchPlan& plan) {
+  std::vector<ColdSource> sources(plan.meshNames.size());
+  for (size_t k = 0; k < sources.size(); ++k) {
+    setupCall(endpoint, "bench: download " + plan.meshNames[k], [&](grpc::ClientContext& c) {
+      return readColdSource(stub, c, plan.meshNames[k], &sources[k]);
+    });
+  }
+  return sources;
+}
+
 // Checks that the server answers and knows the meshes before any load is applied.
-v1::ServerInfo checkServer(const RemoteEndpoint& endpoint, const BenchPlan& plan) {
+v1::ServerInfo checkServer(const RemoteEndpoint& endpoint, BenchPlan& plan) {
   auto channel = connect(endpoint);
   v1::ServerInfo info;
   auto infoStub = v1::ServerInfoService::NewStub(channel);
@@ -247,6 +270,7 @@ v1::ServerInfo checkServer(const RemoteEndpoint& endpoint, const BenchPlan& plan
     setupCall(endpoint, "bench: get " + request.name(),
               [&](grpc::ClientContext& c) { return meshStub->GetMesh(&c, request, &mesh); });
   }
+  if (plan.cold > 0) plan.coldSources = readColdSources(endpoint, *meshStub, plan);
   return info;
 }
 
@@ -259,7 +283,7 @@ std::string describeMix(const std::vector<std::pair<BenchOp, int>>& mix) {
 }
 
 std::string describeRequest(const BenchFlags& flags, const BenchPlan& plan) {
-  if (!mixHas(plan.mix, BenchOp::kTessellate)) return "no tessellations";
+  if (plan.cold == 0 && !mixHas(plan.mix, BenchOp::kTessellate)) return "no tessellations";
   if (flags.level > 0) return fmt::format("uniform level {}", flags.level);
   return fmt::format("{} tolerance {:g}", flags.relative ? "relative" : "absolute",
                      flags.tolerance);
@@ -280,8 +304,17 @@ void printPreamble(const BenchFlags& flags, const BenchPlan& plan, const RemoteE
                            info.version(), info.store(), info.device());
   std::string meshes;
   for (const std::string& mesh : plan.meshNames) meshes += (meshes.empty() ? "" : ", ") + mesh;
-  std::cout << fmt::format("mix {}; meshes {}; {}\n", describeMix(plan.mix),
-                           meshes.empty() ? "none" : meshes, describeRequest(flags, plan));
+  if (plan.cold > 0) {
+    std::cout << fmt::format(
+        "cold: per level {} uploads of meshes the server has not seen (copies of {}, every vertex "
+        "moved "
+        "by up to {:g} of the diagonal; ids {}...), each tessellated once at {}\n",
+        plan.cold, meshes, kColdDisplacement, coldMeshId(flags.coldSeed, 0),
+        describeRequest(flags, plan));
+  } else {
+    std::cout << fmt::format("mix {}; meshes {}; {}\n", describeMix(plan.mix),
+                             meshes.empty() ? "none" : meshes, describeRequest(flags, plan));
+  }
   std::cout << fmt::format(
       "per level: {} requests or {:g} s, whichever first; warmup {}; deadline {:g} s per call; "
       "{}; checksums {}\n",
@@ -293,7 +326,7 @@ void printPreamble(const BenchFlags& flags, const BenchPlan& plan, const RemoteE
   for (const LoadLevel& level : plan.levels) most = std::max(most, level.workers);
   const v1::ServerLimits& limits = info.limits();
   const int admitted = limits.max_concurrent_jobs() + limits.max_queued_jobs();
-  if (mixHas(plan.mix, BenchOp::kTessellate) && most > admitted) {
+  if ((plan.cold > 0 || mixHas(plan.mix, BenchOp::kTessellate)) && most > admitted) {
     std::cout << fmt::format(
         "note: up to {} concurrent tessellations, but the server runs {} and queues {}: expect "
         "RESOURCE_EXHAUSTED (server busy) past that\n",
@@ -310,6 +343,14 @@ nlohmann::json runJson(const BenchFlags& flags, const BenchPlan& plan,
   if (flags.tolerance > 0) request[flags.relative ? "relative" : "absolute"] = flags.tolerance;
   if (flags.level > 0) request["uniform_level"] = flags.level;
   if (flags.given("--eta")) request["eta"] = flags.eta;
+  nlohmann::json cold = nullptr;
+  if (plan.cold > 0) {
+    cold = {{"meshes_per_level", plan.cold},
+            {"seed", flags.coldSeed},
+            {"first_id", coldMeshId(flags.coldSeed, 0)},
+            {"displacement_of_diagonal", kColdDisplacement}};
+    mix = nullptr;
+  }
   return {{"tool", "tessera bench"},
           {"started", utcNow()},
           {"server", endpoint.server},
@@ -319,6 +360,7 @@ nlohmann::json runJson(const BenchFlags& flags, const BenchPlan& plan,
           {"mode", flags.rates.empty() ? "concurrency" : "rate"},
           {"channels", flags.sharedChannel ? "shared" : "per-worker"},
           {"mix", mix},
+          {"cold", cold},
           {"meshes", plan.meshNames},
           {"tessellate_request", request},
           {"requests_per_level", plan.limits.requests},
@@ -366,12 +408,23 @@ int runBench(const BenchFlags& flags, const RemoteEndpoint& endpoint) {
   printPreamble(flags, plan, endpoint, info);
   nlohmann::json json = runJson(flags, plan, endpoint, info);
   printTableHeader(std::cout, !flags.rates.empty());
+  // Cold copies are numbered across the whole run, warm-ups included, so no two share content.
+  int64_t nextCopy = 0;
+  auto requestsOf = [&](const PhaseLimits& limits) {
+    if (plan.cold == 0) return mixRequests(plan.schedule);
+    PhaseRequest cold =
+        coldRequests(plan.coldSources, plan.requests.tessellate, flags.coldSeed, nextCopy);
+    nextCopy += limits.requests;
+    return cold;
+  };
   for (const LoadLevel& level : plan.levels) {
-    if (plan.warmup > 0)
-      runPhase(clients, plan.schedule, level, {plan.warmup, plan.limits.duration});
+    if (plan.warmup > 0) {
+      const PhaseLimits warmup{plan.warmup, plan.limits.duration};
+      runPhase(clients, requestsOf(warmup), level, warmup);
+    }
     LevelResult result =
-        summarizeLevel(level, runPhase(clients, plan.schedule, level, plan.limits));
-    printLevel(std::cout, result, plan.mix.size() > 1);
+        summarizeLevel(level, runPhase(clients, requestsOf(plan.limits), level, plan.limits));
+    printLevel(std::cout, result, plan.mix.size() > 1 || plan.cold > 0);
     json["levels"].push_back(toJson(result));
   }
   if (!flags.json.empty()) {
@@ -419,6 +472,16 @@ void registerBenchCommand(CLI::App& app, CommandContext& context,
   bench->add_flag("--shared-channel", flags->sharedChannel,
                   "All workers on one channel (one connection) instead of one each");
   bench->add_flag("--no-verify", flags->noVerify, "Do not check each GLB's SHA-256");
+  CLI::Option* cold = bench->add_option("--cold", flags->cold,
+                                        "Cold mix instead: per level, N uploads of new content "
+                                        "(copies of --mesh), each tessellated once");
+  cold->excludes(bench->get_option("--mix"))->excludes(bench->get_option("--requests"));
+  bench
+      ->add_option("--cold-seed", flags->coldSeed,
+                   "Numbers the cold copies (ids bench-cold-SEED-I); a server that has seen a seed "
+                   "refuses its ids again")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   bench->add_option("--json", flags->json, "Also write the results as JSON to this file");
   bench->callback([&context, endpoint, flags] { context.exitCode = runBench(*flags, *endpoint); });
 }

@@ -3,6 +3,8 @@
 //   tessera --server H:P bench [--mix tessellate=8,get=1,list=1,info=1] [--mesh meshes/NAME ...]
 //       [--tolerance E [--relative] | --level P] [--concurrency 1,2,4,8,16,32 | --rate R/s]
 //       [--requests N] [--duration 30s] [--warmup N] [--json out.json]
+//   tessera --server H:P bench --cold N [--cold-seed S] --mesh meshes/NAME --tolerance E ... (as
+//   above)
 //
 // Each level of a concurrency sweep runs that many workers in a closed loop; --rate releases
 // requests at fixed times instead (open loop) onto --concurrency workers (default 32). A level
@@ -12,6 +14,10 @@
 // response bytes (serialized protobuf messages, without HTTP/2 framing) and errors by gRPC status
 // code. A closed-loop worker refused with a retry hint (grpc-retry-pushback-ms: the server is
 // busy) waits 0.5–1.5 times the hint before its next request, as a well-behaved client does.
+//
+// --cold N replaces the mix with the cold path (remote_bench_cold.h): per level, N uploads of
+// meshes the server has not seen, each tessellated once; the levels report the uploads' latency
+// and the first GLB's (from sending the Tessellate until the whole GLB has arrived and checked).
 //
 // Channels: by default every worker has a channel, and so a TCP connection, of its own: N workers
 // stand for N independent clients, which is what a server sees in production, and no worker

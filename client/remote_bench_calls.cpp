@@ -59,12 +59,14 @@ std::string_view benchOpName(BenchOp op) {
       return "list";
     case BenchOp::kInfo:
       return "info";
+    case BenchOp::kUpload:
+      return "upload";
   }
   return "unknown";
 }
 
-std::optional<BenchOp> benchOpFromName(std::string_view name) {
-  for (BenchOp op : kBenchOps) {
+std::optional<BenchOp> mixOpFromName(std::string_view name) {
+  for (BenchOp op : kMixOps) {
     if (benchOpName(op) == name) return op;
   }
   return std::nullopt;
@@ -123,7 +125,21 @@ CallOutcome BenchClient::call(BenchOp op, uint64_t sequence) {
       outcome.bytesReceived = sizeOf(response);
       return outcome;
     }
+    case BenchOp::kUpload:
+      break;  // not a mix operation: upload() takes the mesh
   }
+  return outcome;
+}
+
+CallOutcome BenchClient::upload(const v1::MeshArrays& arrays, const UploadOptions& options) {
+  CallOutcome outcome;
+  grpc::ClientContext context;
+  prepare(context);
+  v1::Mesh mesh;
+  outcome.code = uploadMeshArrays(*meshes_, context, arrays, options, &mesh).error_code();
+  outcome.retryAfterMs = pushbackMs(context);
+  outcome.bytesSent = sizeOf(arrays);
+  outcome.bytesReceived = sizeOf(mesh);
   return outcome;
 }
 

@@ -1,7 +1,7 @@
-// The calls `tessera bench` makes: one request of a kind (tessellate, get, list, info) on a
-// channel, with a deadline, measured in the protobuf bytes it moved and judged by its status.
-// A tessellation counts as successful only when its stream is complete and consistent
-// (contiguous offsets, the summary's size and, unless turned off, its SHA-256).
+// The calls `tessera bench` makes: one request of a kind (tessellate, get, list, info; upload for
+// the cold mix) on a channel, with a deadline, measured in the protobuf bytes it moved and judged
+// by its status. A tessellation counts as successful only when its stream is complete and
+// consistent (contiguous offsets, the summary's size and, unless turned off, its SHA-256).
 #pragma once
 
 #include <grpcpp/grpcpp.h>
@@ -15,18 +15,22 @@
 #include <vector>
 
 #include "client/remote_connection.h"
+#include "client/remote_upload.h"
 #include "tessera/v1/mesh.grpc.pb.h"
 #include "tessera/v1/server_info.grpc.pb.h"
 #include "tessera/v1/tessellation.grpc.pb.h"
 
 namespace tessera::cli {
 
-enum class BenchOp { kTessellate, kGet, kList, kInfo };
-inline constexpr BenchOp kBenchOps[] = {BenchOp::kTessellate, BenchOp::kGet, BenchOp::kList,
-                                        BenchOp::kInfo};
+enum class BenchOp { kTessellate, kGet, kList, kInfo, kUpload };
+// The operations a mix may name. Uploads come only from the cold mix, whose every upload is a
+// mesh of its own (remote_bench_cold.h).
+inline constexpr BenchOp kMixOps[] = {BenchOp::kTessellate, BenchOp::kGet, BenchOp::kList,
+                                      BenchOp::kInfo};
 
 std::string_view benchOpName(BenchOp op);
-std::optional<BenchOp> benchOpFromName(std::string_view name);
+// One of kMixOps by name.
+std::optional<BenchOp> mixOpFromName(std::string_view name);
 
 // What one call came to.
 struct CallOutcome {
@@ -60,12 +64,14 @@ class BenchClient {
   BenchClient(std::shared_ptr<grpc::Channel> channel, const RemoteEndpoint& endpoint,
               const BenchRequests& requests);
 
-  // sequence picks the mesh (round robin over the meshes of the run).
+  // One of kMixOps; sequence picks the mesh (round robin over the meshes of the run).
   CallOutcome call(BenchOp op, uint64_t sequence);
+  CallOutcome tessellate(const tessera::v1::TessellateRequest& request);
+  // An ARRAYS upload as meshes/<options.meshId>.
+  CallOutcome upload(const tessera::v1::MeshArrays& arrays, const UploadOptions& options);
 
  private:
   void prepare(grpc::ClientContext& context) const;
-  CallOutcome tessellate(const tessera::v1::TessellateRequest& request);
 
   const RemoteEndpoint& endpoint_;
   const BenchRequests& requests_;

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <optional>
 #include <random>
 #include <thread>
 
 namespace tessera::cli {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using Clock = BenchClock;
 
 double secondsBetween(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double>(to - from).count();
@@ -18,8 +19,8 @@ double secondsBetween(Clock::time_point from, Clock::time_point to) {
 // Closed-loop workers honour a busy server's retry hint, waiting 0.5–1.5 times it (jittered, so
 // that refused workers do not come back together) before their next request; at a fixed rate
 // the schedule is the load offered, and it is kept.
-std::vector<Sample> work(BenchClient& client, const std::vector<BenchOp>& schedule,
-                         const LoadLevel& level, const PhaseLimits& limits, Clock::time_point start,
+std::vector<Sample> work(BenchClient& client, const PhaseRequest& request, const LoadLevel& level,
+                         const PhaseLimits& limits, Clock::time_point start,
                          std::atomic<int64_t>& next, unsigned seed) {
   std::minstd_rand jitter(seed);
   std::uniform_real_distribution<double> factor(0.5, 1.5);
@@ -28,23 +29,27 @@ std::vector<Sample> work(BenchClient& client, const std::vector<BenchOp>& schedu
   while (true) {
     const int64_t i = next.fetch_add(1, std::memory_order_relaxed);
     if (i >= limits.requests) break;
-    Clock::time_point sent = Clock::now();
+    std::optional<Clock::time_point> due;
     if (level.rate) {
-      const auto due = start + std::chrono::duration_cast<Clock::duration>(
-                                   std::chrono::duration<double>(double(i) / *level.rate));
-      if (due >= end) break;
-      std::this_thread::sleep_until(due);
-      sent = due;
-    } else if (sent >= end) {
+      due = start + std::chrono::duration_cast<Clock::duration>(
+                        std::chrono::duration<double>(double(i) / *level.rate));
+      if (*due >= end) break;
+      std::this_thread::sleep_until(*due);
+    } else if (Clock::now() >= end) {
       break;
     }
-    const BenchOp op = schedule[static_cast<size_t>(i) % schedule.size()];
-    CallOutcome outcome = client.call(op, static_cast<uint64_t>(i));
-    const Clock::time_point done = Clock::now();
-    samples.push_back({op, secondsBetween(sent, done), secondsBetween(start, done), outcome});
-    if (!level.rate && outcome.retryAfterMs > 0) {
-      const auto wait = std::chrono::duration<double, std::milli>(double(outcome.retryAfterMs) * factor(jitter));
-      std::this_thread::sleep_until(std::min(end, done + std::chrono::duration_cast<Clock::duration>(wait)));
+    std::vector<TimedCall> calls = request(client, i);
+    for (size_t k = 0; k < calls.size(); ++k) {
+      const TimedCall& call = calls[k];
+      const Clock::time_point sent = k == 0 && due ? *due : call.sent;
+      samples.push_back({call.op, secondsBetween(sent, call.done), secondsBetween(start, call.done),
+                         call.outcome});
+    }
+    if (!level.rate && !calls.empty() && calls.back().outcome.retryAfterMs > 0) {
+      const auto wait = std::chrono::duration<double, std::milli>(
+          double(calls.back().outcome.retryAfterMs) * factor(jitter));
+      std::this_thread::sleep_until(
+          std::min(end, calls.back().done + std::chrono::duration_cast<Clock::duration>(wait)));
     }
   }
   return samples;
@@ -52,7 +57,7 @@ std::vector<Sample> work(BenchClient& client, const std::vector<BenchOp>& schedu
 
 }  // namespace
 
-PhaseResult runPhase(const std::vector<BenchClient*>& clients, const std::vector<BenchOp>& schedule,
+PhaseResult runPhase(const std::vector<BenchClient*>& clients, const PhaseRequest& request,
                      const LoadLevel& level, const PhaseLimits& limits) {
   const int workers = std::min<int>(level.workers, static_cast<int>(clients.size()));
   std::vector<std::vector<Sample>> perWorker(static_cast<size_t>(workers));
@@ -62,8 +67,9 @@ PhaseResult runPhase(const std::vector<BenchClient*>& clients, const std::vector
     std::vector<std::jthread> threads;
     threads.reserve(perWorker.size());
     for (int w = 0; w < workers; ++w) {
-      threads.emplace_back(
-          [&, w] { perWorker[w] = work(*clients[w], schedule, level, limits, start, next, unsigned(w) + 1); });
+      threads.emplace_back([&, w] {
+        perWorker[w] = work(*clients[w], request, level, limits, start, next, unsigned(w) + 1);
+      });
     }
   }  // joins
   PhaseResult result;
@@ -74,6 +80,15 @@ PhaseResult runPhase(const std::vector<BenchClient*>& clients, const std::vector
     }
   }
   return result;
+}
+
+PhaseRequest mixRequests(const std::vector<BenchOp>& schedule) {
+  return [&schedule](BenchClient& client, int64_t i) {
+    const BenchOp op = schedule[static_cast<size_t>(i) % schedule.size()];
+    const Clock::time_point sent = Clock::now();
+    CallOutcome outcome = client.call(op, static_cast<uint64_t>(i));
+    return std::vector<TimedCall>{{op, std::move(outcome), sent, Clock::now()}};
+  };
 }
 
 std::vector<BenchOp> interleaveMix(const std::vector<std::pair<BenchOp, int>>& weights) {

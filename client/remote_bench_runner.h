@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -35,15 +36,31 @@ struct Sample {
   CallOutcome outcome;
 };
 
+using BenchClock = std::chrono::steady_clock;
+
+// One call a request made, timed by the request itself.
+struct TimedCall {
+  BenchOp op;
+  CallOutcome outcome;
+  BenchClock::time_point sent, done;
+};
+
+// What request number i of a phase sends through a worker's client: one call for the mix, an
+// upload and its first tessellation for the cold mix (remote_bench_cold.h).
+using PhaseRequest = std::function<std::vector<TimedCall>(BenchClient& client, int64_t i)>;
+
 struct PhaseResult {
   std::vector<Sample> samples;
   double seconds = 0;  // from the start of the phase to the end of its last call
 };
 
-// Request i of a phase is schedule[i % schedule.size()]; clients[w] serves worker w (at least
-// level.workers of them).
-PhaseResult runPhase(const std::vector<BenchClient*>& clients, const std::vector<BenchOp>& schedule,
+// Runs requests 0, 1, ... of a phase; clients[w] serves worker w (at least level.workers of
+// them). In open loop, a request's first call is timed from when the request was due.
+PhaseResult runPhase(const std::vector<BenchClient*>& clients, const PhaseRequest& request,
                      const LoadLevel& level, const PhaseLimits& limits);
+
+// The mix's requests: request i is one call of schedule[i % schedule.size()].
+PhaseRequest mixRequests(const std::vector<BenchOp>& schedule);
 
 // The mix as a repeating sequence in which every operation appears as often as its weight, spread
 // out rather than in runs (smooth weighted round robin): {tessellate: 2, get: 1} gives t g t.

@@ -1,5 +1,5 @@
-// Streams a mesh file to UploadMesh in 64 KiB chunks. Shared by the `upload` command and, later,
-// `tessera bench`, which uploads the same way.
+// Streams a mesh to UploadMesh: an OBJ file in 64 KiB chunks (the `upload` command), or arrays
+// held in memory (`tessera bench --cold` and tools/soak, which upload copies of stored meshes).
 #pragma once
 
 #include <cstdint>
@@ -31,5 +31,14 @@ using UploadProgress = std::function<void(int64_t sent, int64_t total)>;
 grpc::Status uploadObjFile(tessera::v1::MeshService::Stub& stub, grpc::ClientContext& context,
                            const std::string& path, const UploadOptions& options,
                            tessera::v1::Mesh* mesh, const UploadProgress& progress = {});
+
+// Uploads arrays (MESH_FORMAT_ARRAYS) in messages of a bounded size; the call's status, with the
+// stored mesh in *mesh on success.
+grpc::Status uploadMeshArrays(tessera::v1::MeshService::Stub& stub, grpc::ClientContext& context,
+                              const tessera::v1::MeshArrays& arrays, const UploadOptions& options,
+                              tessera::v1::Mesh* mesh);
+
+// What an ARRAYS upload of these arrays declares in total_bytes (mesh.proto's rule).
+int64_t arraysUploadBytes(const tessera::v1::MeshArrays& arrays);
 
 }  // namespace tessera::cli

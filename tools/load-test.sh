@@ -9,10 +9,17 @@
 #      call end to end (the GLB streamed and its SHA-256 checked, as the CLI does) against
 #      tessellate() + writeGlb() in-process on a prebuilt patch set (what the server does once the
 #      mesh's patch set is cached): --pairs pairs of --runs runs each way (after 5 unmeasured
-#      ones), back to back, median per side and pair, then the median over the pairs.
+#      ones), back to back, median per side and pair, then the median over the pairs;
+#   4. the cold mix (issue 46): `tessera bench --cold N`, N uploads per level of bigguy copies whose
+#      content the server has not seen, each tessellated once (first-GLB and upload latency), at
+#      each of --cold-tolerances on a fresh server (its peak VmHWM, and its patch-set cache misses
+#      to show that it preprocessed each copy), then the same tolerance warm on that server.
 #
 #   tools/load-test.sh [--build-dir build] [--out bench/LOAD-RESULTS.md] [--requests 3000]
 #                      [--levels 1,2,4,8,16,32] [--runs 11] [--pairs 10] [--keep-work]
+#                      [--cold 32] [--cold-levels 1,2] [--cold-tolerances 1e-2,1e-3] [--cold-only]
+#
+# --cold-only runs part 4 alone and replaces the "Cold mix" section of --out, keeping the rest.
 #
 # Needs the targets tessera, tessera-server and tessera-inprocess-timing in the build folder.
 # The host is shared with builds and other benchmarks: before each measurement the script waits
@@ -39,6 +46,10 @@ models=${TESSERA_MODELS_DIR:-$(pwd)/../shared/models}
 mix=tessellate=8,get=1,list=1,info=1
 small_request=(--tolerance 1e-2 --relative)
 overhead_tolerance=6e-4
+cold=32
+cold_levels=1,2
+cold_tolerances=1e-2,1e-3
+cold_only=0
 
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -52,9 +63,13 @@ while [ $# -gt 0 ]; do
     --attempts) attempts=$2; shift 2 ;;
     --max-others) max_others=$2; shift 2 ;;
     --keep-work) keep_work=1; shift ;;
+    --cold) cold=$2; shift 2 ;;
+    --cold-levels) cold_levels=$2; shift 2 ;;
+    --cold-tolerances) cold_tolerances=$2; shift 2 ;;
+    --cold-only) cold_only=1; shift ;;
     *) echo "usage: $0 [--build-dir DIR] [--out FILE] [--requests N] [--levels LIST]" \
             "[--runs N] [--pairs N] [--quiet-wait SECONDS] [--attempts N] [--max-others SHARE]" \
-            "[--keep-work]" >&2
+            "[--keep-work] [--cold N] [--cold-levels LIST] [--cold-tolerances LIST] [--cold-only]" >&2
        exit 2 ;;
   esac
 done
@@ -62,7 +77,9 @@ done
 cli=$build/client/tessera
 server_binary=$build/server/tessera-server
 inprocess=$build/tools/tessera-inprocess-timing
-for binary in "$cli" "$server_binary" "$inprocess"; do
+binaries=("$cli" "$server_binary")
+[ "$cold_only" = 1 ] || binaries+=("$inprocess")
+for binary in "${binaries[@]}"; do
   [ -x "$binary" ] || { echo "load-test: $binary is missing; build it with" \
     "cmake --build $build --target tessera tessera-server tessera-inprocess-timing" >&2; exit 2; }
 done
@@ -91,6 +108,7 @@ start_server() {
   for _ in $(seq 1 300); do [ -f "$work/$name.ready" ] && break; sleep 0.1; done
   [ -f "$work/$name.ready" ] || { log "the server did not start:"; cat "$work/$name.log" >&2; exit 1; }
   address=$(sed -n 's/^grpc=//p' "$work/$name.ready")
+  metrics_address=$(sed -n 's/^metrics=//p' "$work/$name.ready")
   "$cli" --server "$address" upload "$models/bigguy.obj" --name bigguy >/dev/null
 }
 
@@ -162,54 +180,88 @@ measure_quietly() {
 }
 
 bench() { "$cli" --server "$address" bench "$@"; }
-
-# 1. The sweep, one bench run per level so that the server's memory is read after each.
-log "sweep: levels $levels, $requests requests each (a fresh server on SQLite)"
-start_server sweep --max-queued-jobs 64
-# VmRSS, and its anonymous part (heap: caches and per-call buffers; the rest is file-backed,
-# mostly shared libraries).
-{ echo "before $(memory_kib "$server_pid" VmRSS)"
-  echo "anon-before $(memory_kib "$server_pid" RssAnon)"; } >"$work/sweep-memory.txt"
-IFS=, read -r -a level_list <<<"$levels"
-for c in "${level_list[@]}"; do
-  log "  concurrency $c"
-  measure_quietly "level-$c" bench --mix "$mix" --mesh meshes/bigguy "${small_request[@]}" \
-    --concurrency "$c" --requests "$requests" --duration "$level_limit" --warmup 50 \
-    --timeout 60s --json "$work/level-$c.json"
-  { echo "$c $(memory_kib "$server_pid" VmRSS)"
-    echo "anon-$c $(memory_kib "$server_pid" RssAnon)"; } >>"$work/sweep-memory.txt"
-done
-echo "peak $(memory_kib "$server_pid" VmHWM)" >>"$work/sweep-memory.txt"
-stop_server
-
-# 2. The default admission limits (running = cores, queue = 32 per running job) under 32 clients.
-log "32 clients against the default admission limits"
-start_server defaults
-measure_quietly defaults bench --mix "$mix" --mesh meshes/bigguy "${small_request[@]}" \
-  --concurrency 32 --requests 1000 --duration "$level_limit" --warmup 0 --timeout 60s \
-  --json "$work/defaults.json"
-stop_server
-
-# 3. The overhead, in pairs: in-process runs, then remote calls with and without the checksum,
-# back to back, so that both sides of a pair run under the same conditions (the host's load
-# drifts over minutes); a pair disturbed by other processes is repeated as a whole.
-overhead_pair() {
-  local pair=$1
-  "$inprocess" "$models/bigguy.obj" --relative "$overhead_tolerance" --runs "$runs" \
-    --warmup "$warmup" --name bigguy >"$work/inprocess-$pair.json"
-  bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
-    --requests "$runs" --warmup "$warmup" --json "$work/remote-$pair.json"
-  bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
-    --requests "$runs" --warmup "$warmup" --no-verify --json "$work/unverified-$pair.json"
+# Preprocessings the server has started (its patch-set cache misses).
+patch_misses() {
+  curl -sf "http://$metrics_address/metrics" | awk '$1 == "tessera_patch_cache_misses_total" {print $2}'
 }
-log "overhead: bigguy at relative $overhead_tolerance, $pairs pairs of $runs runs each way"
-start_server overhead
-bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
-  --requests 5 >/dev/null  # fills the server's patch cache
-for pair in $(seq 1 "$pairs"); do
-  measure_quietly "pair-$pair" overhead_pair "$pair"
-done
-stop_server
+
+# 4. The cold mix, on a fresh server per tolerance. Measured once, not repeated while disturbed:
+# a repeat on the same server would meet its own copies (same ids), and on another would not be
+# the same run; the others' share is reported instead.
+cold_mix() {
+  local tolerance
+  IFS=, read -r -a cold_tolerance_list <<<"$cold_tolerances"
+  for tolerance in "${cold_tolerance_list[@]}"; do
+    log "cold mix: $cold new meshes per level, levels $cold_levels, relative $tolerance"
+    start_server "cold-$tolerance"
+    { echo "rss-before $(memory_kib "$server_pid" VmRSS)"
+      echo "misses-before $(patch_misses)"; } >"$work/cold-$tolerance-server.txt"
+    wait_quiet
+    measure "cold-$tolerance" bench --cold "$cold" --mesh meshes/bigguy --tolerance "$tolerance" \
+      --relative --concurrency "$cold_levels" --timeout 120s --json "$work/cold-$tolerance.json"
+    printf "%s\t1\n" "$(cat "$work/cold-$tolerance.row")" >>"$work/disturbance.tsv"
+    { echo "misses-after $(patch_misses)"
+      echo "peak $(memory_kib "$server_pid" VmHWM)"
+      echo "rss-after $(memory_kib "$server_pid" VmRSS)"; } >>"$work/cold-$tolerance-server.txt"
+    # The warm reference: the source mesh at the same tolerance, its patch set cached.
+    bench --mesh meshes/bigguy --tolerance "$tolerance" --relative --concurrency 1 \
+      --requests "$cold" --warmup 5 --json "$work/cold-$tolerance-warm.json" >/dev/null
+    stop_server
+  done
+}
+
+if [ "$cold_only" = 1 ]; then
+  [ -f "$out" ] || { log "--cold-only replaces a section of $out, which does not exist"; exit 2; }
+else
+  # 1. The sweep, one bench run per level so that the server's memory is read after each.
+  log "sweep: levels $levels, $requests requests each (a fresh server on SQLite)"
+  start_server sweep --max-queued-jobs 64
+  # VmRSS, and its anonymous part (heap: caches and per-call buffers; the rest is file-backed,
+  # mostly shared libraries).
+  { echo "before $(memory_kib "$server_pid" VmRSS)"
+    echo "anon-before $(memory_kib "$server_pid" RssAnon)"; } >"$work/sweep-memory.txt"
+  IFS=, read -r -a level_list <<<"$levels"
+  for c in "${level_list[@]}"; do
+    log "  concurrency $c"
+    measure_quietly "level-$c" bench --mix "$mix" --mesh meshes/bigguy "${small_request[@]}" \
+      --concurrency "$c" --requests "$requests" --duration "$level_limit" --warmup 50 \
+      --timeout 60s --json "$work/level-$c.json"
+    { echo "$c $(memory_kib "$server_pid" VmRSS)"
+      echo "anon-$c $(memory_kib "$server_pid" RssAnon)"; } >>"$work/sweep-memory.txt"
+  done
+  echo "peak $(memory_kib "$server_pid" VmHWM)" >>"$work/sweep-memory.txt"
+  stop_server
+
+  # 2. The default admission limits (running = cores, queue = 32 per running job) under 32 clients.
+  log "32 clients against the default admission limits"
+  start_server defaults
+  measure_quietly defaults bench --mix "$mix" --mesh meshes/bigguy "${small_request[@]}" \
+    --concurrency 32 --requests 1000 --duration "$level_limit" --warmup 0 --timeout 60s \
+    --json "$work/defaults.json"
+  stop_server
+
+  # 3. The overhead, in pairs: in-process runs, then remote calls with and without the checksum,
+  # back to back, so that both sides of a pair run under the same conditions (the host's load
+  # drifts over minutes); a pair disturbed by other processes is repeated as a whole.
+  overhead_pair() {
+    local pair=$1
+    "$inprocess" "$models/bigguy.obj" --relative "$overhead_tolerance" --runs "$runs" \
+      --warmup "$warmup" --name bigguy >"$work/inprocess-$pair.json"
+    bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
+      --requests "$runs" --warmup "$warmup" --json "$work/remote-$pair.json"
+    bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
+      --requests "$runs" --warmup "$warmup" --no-verify --json "$work/unverified-$pair.json"
+  }
+  log "overhead: bigguy at relative $overhead_tolerance, $pairs pairs of $runs runs each way"
+  start_server overhead
+  bench --mesh meshes/bigguy --tolerance "$overhead_tolerance" --relative --concurrency 1 \
+    --requests 5 >/dev/null  # fills the server's patch cache
+  for pair in $(seq 1 "$pairs"); do
+    measure_quietly "pair-$pair" overhead_pair "$pair"
+  done
+  stop_server
+fi
+cold_mix
 
 # The results file.
 {
@@ -226,5 +278,6 @@ stop_server
 python3 tools/load_test/write_results.py "$work" "$out" \
   --levels "$levels" --requests "$requests" --mix "$mix" --runs "$runs" --pairs "$pairs" \
   --overhead-tolerance "$overhead_tolerance" --warmup "$warmup" --attempts "$attempts" \
-  --max-others "$max_others"
+  --max-others "$max_others" --cold "$cold" --cold-levels "$cold_levels" \
+  --cold-tolerances "$cold_tolerances" $([ "$cold_only" = 1 ] && echo --cold-only)
 log "wrote $out"

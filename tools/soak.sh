@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# The memory soak of issue 16: a fresh tessera-server on SQLite (loopback, --memory-budget 3GiB,
-# 256 MiB for each cache) under tools/soak's 32 clients, 8 of them hostile, for ten minutes;
-# the report goes to bench/SOAK-RESULTS.md with the machine and the command. A short run of the
-# same tool is the test Server.SoakTest.* (label "load").
+# The memory soak of issues 16 and 46: a fresh tessera-server on SQLite (loopback,
+# --memory-budget 3GiB, 256 MiB for each cache) under tools/soak's 32 clients, 8 of them hostile
+# and 8 a cold storm (uploads of meshes the server has never seen, each tessellated once), for
+# ten minutes; the report goes to bench/SOAK-RESULTS.md with the machine and the command. A short
+# run of the same tool is the test Server.SoakTest.* (label "load").
 #
 #   tools/soak.sh [--build-dir build] [--out bench/SOAK-RESULTS.md] [--seconds 600] [--clients 32]
-#                 [--hostile 8] [--budget 3GiB]
+#                 [--hostile 8] [--cold 8] [--budget 3GiB]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,6 +15,7 @@ out=bench/SOAK-RESULTS.md
 seconds=600
 clients=32
 hostile=8
+cold=8
 budget=3GiB
 models=${TESSERA_MODELS_DIR:-$(pwd)/../shared/models}
 while [ $# -gt 0 ]; do
@@ -23,8 +25,10 @@ while [ $# -gt 0 ]; do
     --seconds) seconds=$2; shift 2 ;;
     --clients) clients=$2; shift 2 ;;
     --hostile) hostile=$2; shift 2 ;;
+    --cold) cold=$2; shift 2 ;;
     --budget) budget=$2; shift 2 ;;
-    *) echo "usage: $0 [--build-dir DIR] [--out FILE] [--seconds N] [--clients N] [--hostile N] [--budget SIZE]" >&2
+    *) echo "usage: $0 [--build-dir DIR] [--out FILE] [--seconds N] [--clients N] [--hostile N] [--cold N]" \
+            "[--budget SIZE]" >&2
        exit 2 ;;
   esac
 done
@@ -45,14 +49,14 @@ address=$(sed -n 's/^grpc=//p' "$work/ready")
 [ -n "$address" ] || { echo "soak: the server did not start" >&2; cat "$work/server.log" >&2; exit 1; }
 
 command=("$build/tools/tessera-soak" --server "$address" --server-pid "$server_pid" --models "$models"
-         --clients "$clients" --hostile "$hostile" --seconds "$seconds")
+         --clients "$clients" --hostile "$hostile" --cold "$cold" --seconds "$seconds")
 started=$(date -u +%FT%TZ)
 status=0
 "${command[@]}" >"$work/report.md" || status=$?
 {
-  echo "# Memory soak: hostile and normal requests from many clients"
+  echo "# Memory soak: hostile, cold and normal requests from many clients"
   echo
-  echo "\`tools/soak.sh --seconds $seconds --clients $clients --hostile $hostile --budget $budget\` at commit" \
+  echo "\`tools/soak.sh --seconds $seconds --clients $clients --hostile $hostile --cold $cold --budget $budget\` at commit" \
        "$(git rev-parse --short HEAD), started $started."
   echo "Server: \`tessera-server ${server_flags[*]}\` (a fresh SQLite store, Vulkan on lavapipe where"
   echo "available). Machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) CPUs," \
@@ -63,8 +67,14 @@ status=0
   echo "8192 x 8192 raw frame, a malformed upload, a NaN tolerance, bigguy at 1e-4 with a 50 ms deadline,"
   echo "and armorguy at 1e-3 abandoned after the first message. The normal clients send bigguy at"
   echo "1e-2 and 1e-3, GetMesh and 256 x 256 frames, and wait out the server's pushback"
-  echo "(grpc-retry-pushback-ms) as a well-behaved client does. tools/soak/soak_requests.h lists which"
-  echo "codes each request may end with; any other counts as unexpected."
+  echo "(grpc-retry-pushback-ms) as a well-behaved client does; their meshes' patch sets are warm."
+  echo "The cold storm's clients upload, one after another, copies of bigguy, monsterfrog, car, t-rex and"
+  echo "armorguy, each vertex moved by a smooth displacement of at most 3e-3 of the diagonal that depends"
+  echo "on the client and the copy (client/remote_cold_copies.h: new content, so the server preprocesses"
+  echo "each), tessellate each once at relative 1e-3 (the first GLB), delete it and go on; its patch set"
+  echo "stays in the cache, which the storm churns. A cold call may end OK or RESOURCE_EXHAUSTED with a"
+  echo "message (after waiting out any pushback). tools/soak/soak_requests.h lists which codes each"
+  echo "request may end with; any other counts as unexpected."
   echo
   cat "$work/report.md"
 } >"$out"

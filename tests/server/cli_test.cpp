@@ -3,9 +3,10 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
-
 #include <nlohmann/json.hpp>
 
 #include "tests/server/server_process.h"
@@ -183,6 +184,63 @@ TEST_F(CliTest, BenchBacksOffWhenTheServerIsBusy) {
   EXPECT_LT(refused, 400) << level.dump();
   EXPECT_TRUE(level.contains("ok_rps")) << level.dump();
   EXPECT_TRUE(contains(run.output, "OK/S")) << run.output;
+}
+
+// The cold mix uploads content the server has never seen and tessellates each mesh once: the
+// server preprocesses every one (its patch-set cache misses once per copy, which it would not for
+// copies of equal content under new ids), each copy is the source moved by a small displacement
+// and no more, and the copies stay, so that the same seed again is refused instead of served warm.
+TEST_F(CliTest, BenchColdMixPreprocessesEveryUpload) {
+  startServer();
+  auto meshes = v1::MeshService::NewStub(server_->channel());
+  const MeshArrays grid = gridMesh(6, 0);
+  ASSERT_TRUE(uploadMessages(*meshes, arraysUpload("grid", grid)).status.ok());
+  auto misses = [&] {
+    return seriesValue(httpGet(server_->metricsAddress(), "/metrics"),
+                       "tessera_patch_cache_misses_total");
+  };
+  ASSERT_EQ(misses(), 0);
+  constexpr int kCold = 4;  // per level, over two levels
+  const std::filesystem::path json = dir_.path() / "cold.json";
+  CliRun run = tessera("bench --cold " + std::to_string(kCold) +
+                       " --mesh meshes/grid --tolerance 0.01 --relative --concurrency 1,2 --json " +
+                       json.string());
+  ASSERT_EQ(run.code, kExitOk) << run.output;
+  EXPECT_TRUE(contains(run.output, "upload")) << run.output;
+  const nlohmann::json report = nlohmann::json::parse(readFile(json));
+  EXPECT_EQ(report["cold"]["meshes_per_level"], kCold);
+  ASSERT_EQ(report["levels"].size(), 2u);
+  for (const nlohmann::json& level : report["levels"]) {
+    EXPECT_TRUE(level["errors"].empty()) << level.dump();
+    EXPECT_EQ(level["operations"]["upload"]["ok"], kCold) << level.dump();
+    EXPECT_EQ(level["operations"]["tessellate"]["ok"], kCold) << level.dump();
+    EXPECT_FALSE(level["operations"]["tessellate"]["latency_ms"].is_null()) << level.dump();
+  }
+  EXPECT_EQ(misses(), 2 * kCold);
+
+  grpc::Status status;
+  const MeshArrays copy = downloadMesh(*meshes, "bench-cold-0-5", &status);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(copy.faceSizes, grid.faceSizes);
+  EXPECT_EQ(copy.faceVertices, grid.faceVertices);
+  ASSERT_EQ(copy.positions.size(), grid.positions.size());
+  float lo = grid.positions[0], hi = grid.positions[0], moved = 0;
+  for (size_t i = 0; i < grid.positions.size(); ++i) {
+    lo = std::min(lo, grid.positions[i]), hi = std::max(hi, grid.positions[i]);
+    moved = std::max(moved, std::abs(copy.positions[i] - grid.positions[i]));
+  }
+  EXPECT_GT(moved, 0);
+  // 3e-3 of the diagonal at most per axis (remote_cold_copies.h); the diagonal is at least the
+  // widest extent and at most sqrt(3) times it.
+  EXPECT_LE(moved, 3e-3 * std::sqrt(3.0) * (hi - lo) * 1.001);
+
+  CliRun again = tessera(
+      "bench --cold 1 --mesh meshes/grid --tolerance 0.01 --relative --concurrency 1 --json " +
+      json.string());
+  ASSERT_EQ(again.code, kExitOk) << again.output;
+  const nlohmann::json refused = nlohmann::json::parse(readFile(json))["levels"][0];
+  EXPECT_EQ(refused["errors"].value("ALREADY_EXISTS", 0), 1) << refused.dump();
+  EXPECT_EQ(misses(), 2 * kCold);
 }
 
 }  // namespace

@@ -3,8 +3,11 @@
 
     write_results.py WORK_DIR OUT.md --levels 1,2,... --requests N --mix M --runs N --pairs N
                      --overhead-tolerance E --warmup N --attempts N --max-others SHARE
+                     --cold N --cold-levels 1,2 --cold-tolerances 1e-2,1e-3 [--cold-only]
 
-Every figure comes from those files (bench JSON, /proc readings); nothing is typed in here.
+Every figure comes from those files (bench JSON, /proc readings, /metrics); nothing is typed in
+here. With --cold-only the run had only the cold mix: its section replaces the "Cold mix" section
+of OUT.md (or is appended), and the rest of the file stays as it was.
 """
 import argparse
 import json
@@ -218,6 +221,97 @@ def overhead_section(work, args, disturbance):
     return lines
 
 
+def read_numbers(path):
+    with open(path) as f:
+        return dict((key, float(value)) for key, value in (line.split() for line in f))
+
+
+def cold_section(work, args, machine, disturbance):
+    tolerances = args.cold_tolerances.split(",")
+    lines = [
+        "## Cold mix", "",
+        f"A mesh's first tessellation is cold: the server preprocesses it (Far's refinement, the "
+        f"patches and rings, the surface tree) and caches the result by the mesh's content. "
+        f"`tessera bench --cold {args.cold}` uploads, per level, {args.cold} meshes the server "
+        f"has not seen and tessellates each once: copies of bigguy with every vertex moved by a "
+        f"smooth displacement of at most 3e-3 of the bounding-box diagonal per axis that depends "
+        f"on the copy's number (client/remote_cold_copies.h: same topology, new content, so the "
+        f"content-keyed cache cannot serve them), uploaded as arrays. Upload: the UploadMesh call "
+        f"(the arrays checked and validated, the mesh stored in SQLite). First GLB: from sending the Tessellate of the "
+        f"freshly uploaded mesh until its whole GLB has arrived and its SHA-256 matched, as in "
+        f"the warm mix; the server's compute is the stage timings of its summary (preprocess, "
+        f"tessellate, encode). Each tolerance runs on a fresh server (default limits: as many "
+        f"heavy jobs at once as there are cores) with levels of {args.cold_levels} clients, each "
+        f"on its own connection, then the warm reference on the same server: bigguy itself at "
+        f"that tolerance, {args.cold} requests after 5 unmeasured ones, its patch set cached. "
+        f"Preprocessings are the server's patch-set cache misses "
+        f"(`tessera_patch_cache_misses_total`) over the cold run; peak RSS is the server's VmHWM "
+        f"after it (the warm reference adds nothing to it).", "",
+        f"Run: commit {machine['commit']}, {machine['date']}, {machine['cpu']}, "
+        f"{machine['cores']} cores (nproc), {machine['build_type'] or 'unknown'} build; the load "
+        f"generator and the server share the cores. Measured once per tolerance (a repeat would "
+        f"meet its own copies), with the share of the CPU other processes took.", "",
+        "```sh",
+        "tools/load-test.sh --build-dir BUILD --cold-only   # this section alone",
+        f"tessera --server ADDRESS bench --cold {args.cold} --mesh meshes/bigguy --tolerance T "
+        f"--relative --concurrency {args.cold_levels} --timeout 120s --json cold-T.json",
+        f"tessera --server ADDRESS bench --mesh meshes/bigguy --tolerance T --relative "
+        f"--concurrency 1 --requests {args.cold} --warmup 5 --json cold-T-warm.json",
+        "```", "",
+        "| Relative tolerance | Clients | Cold meshes | Errors | upload p50 / p99 ms "
+        "| first GLB p50 / p99 ms | server compute p50 ms | warm GLB p50 / p99 ms | others |",
+        "|" + "---|" * 9,
+    ]
+    servers = []
+    for tolerance in tolerances:
+        cold = read_json(work, f"cold-{tolerance}.json")
+        warm = read_json(work, f"cold-{tolerance}-warm.json")["levels"][0]
+        warm_lat = warm["operations"]["tessellate"]["latency_ms"]
+        d = disturbance[f"cold-{tolerance}"]
+        uploads = 0
+        for level in cold["levels"]:
+            upload = level["operations"].get("upload", {})
+            tess = level["operations"].get("tessellate", {})
+            uploads += upload.get("ok", 0)
+            compute = tess.get("server_compute_ms")
+            lines.append(
+                f"| {tolerance} | {level['concurrency']} | {upload.get('requests', 0)} "
+                f"| {errors_text(level['errors'])} "
+                f"| {ms(upload.get('latency_ms'), 'p50')} / {ms(upload.get('latency_ms'), 'p99')} "
+                f"| {ms(tess.get('latency_ms'), 'p50')} / {ms(tess.get('latency_ms'), 'p99')} "
+                f"| {ms(compute, 'p50')} | {ms(warm_lat, 'p50')} / {ms(warm_lat, 'p99')} "
+                f"| {percent(d['others'])} |")
+        servers.append((tolerance, uploads, read_numbers(os.path.join(work, f"cold-{tolerance}-server.txt"))))
+    lines += [
+        "", "| Relative tolerance | copies uploaded | preprocessings | server RSS before (MiB) "
+        "| peak RSS, VmHWM (MiB) | RSS after (MiB) |",
+        "|" + "---|" * 6,
+    ]
+    for tolerance, uploads, memory in servers:
+        lines.append(
+            f"| {tolerance} | {uploads} | {memory['misses-after'] - memory['misses-before']:.0f} "
+            f"| {memory['rss-before'] / 1024:.1f} | {memory['peak'] / 1024:.1f} "
+            f"| {memory['rss-after'] / 1024:.1f} |")
+    lines += [
+        "", "Preprocessings equal to the copies uploaded say that each copy was cold. With "
+        f"{args.cold} requests a level, its p99 (nearest rank) is its slowest request.", "",
+    ]
+    return lines
+
+
+def replace_section(path, heading, section):
+    """The file's text with the section under heading replaced by section (appended if absent)."""
+    with open(path) as f:
+        text = f.read().rstrip("\n").split("\n")
+    if heading in text:
+        start = text.index(heading)
+        end = next((i for i in range(start + 1, len(text)) if text[i].startswith("## ")), len(text))
+        text = text[:start] + section + text[end:]
+    else:
+        text += [""] + section
+    return "\n".join(text).rstrip("\n") + "\n"
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("work")
@@ -231,9 +325,19 @@ def main():
     parser.add_argument("--warmup", type=int, required=True)
     parser.add_argument("--attempts", type=int, required=True)
     parser.add_argument("--max-others", type=float, required=True)
+    parser.add_argument("--cold", type=int, required=True)
+    parser.add_argument("--cold-levels", required=True)
+    parser.add_argument("--cold-tolerances", required=True)
+    parser.add_argument("--cold-only", action="store_true")
     args = parser.parse_args()
     machine = read_key_values(os.path.join(args.work, "machine.txt"))
     disturbance = read_disturbance(args.work)
+    cold = cold_section(args.work, args, machine, disturbance)
+    if args.cold_only:
+        text = replace_section(args.out, "## Cold mix", cold)
+        with open(args.out, "w") as f:
+            f.write(text)
+        return
     memory = read_memory(args.work)
     lines = [
         "# tessera-server under load, on loopback", "",
@@ -258,6 +362,7 @@ def main():
     lines += sweep_section(args.work, args, disturbance, memory)
     lines += defaults_section(args.work, disturbance)
     lines += overhead_section(args.work, args, disturbance)
+    lines += cold
     with open(args.out, "w") as f:
         f.write("\n".join(lines))
 

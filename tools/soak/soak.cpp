@@ -1,17 +1,22 @@
-// tessera-soak: many clients mixing hostile and normal requests against a running server for a
-// while, with the server's memory watched throughout (issue 16, bench/SOAK-RESULTS.md,
+// tessera-soak: many clients mixing hostile, cold and normal requests against a running server for
+// a while, with the server's memory watched throughout (issues 16 and 46, bench/SOAK-RESULTS.md,
 // tools/soak.sh; a short run is the test Server.SoakTest.*).
 //
 //   tessera-soak --server 127.0.0.1:PORT --server-pid PID --models DIR [--clients 32] [--hostile 8]
-//       [--seconds 600] [--token T] [--json FILE]
+//       [--cold 8] [--cold-models bigguy,...] [--cold-tolerance 1e-3] [--seconds 600] [--token T]
+//       [--json FILE]
 //
-// Uploads the small and the large model (bigguy and armorguy by default), then runs --clients
-// clients on channels of their own for --seconds: --hostile of them send only hostile requests
-// (soak_requests.h), the others normal ones, retried after the server's pushback. Prints a
+// Uploads the small and the large model (bigguy and armorguy by default) and the cold storm's
+// models, then runs --clients clients on channels of their own for --seconds: --hostile of them
+// send only hostile requests (soak_requests.h), --cold of them are the cold storm (uploads of
+// meshes the server has never seen, copies of the cold models, each tessellated once), the
+// others normal ones, retried after the server's pushback, whose patch sets are warm. Prints a
 // Markdown report: the server's peak resident memory (the kernel's VmHWM) beside its memory
 // budget, its resident memory before and after, every request kind's answers by status code,
-// the normal requests' latency, and whether the server still serves a normal request at the end.
-// Exits 1 when a request ended with a code it may not end with or the last request failed.
+// the normal requests' latency beside the storm, the cold uploads and first GLBs (how many, how
+// many distinct contents, refusals, latency), and whether the server still serves a normal
+// request at the end. Exits 1 when a request ended with a code it may not end with or the last
+// request failed.
 #include <grpcpp/grpcpp.h>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +29,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -37,13 +43,16 @@ namespace {
 
 namespace v1 = tessera::v1;
 using tessera::soak::Outcome;
+using tessera::soak::Role;
 using tessera::soak::SoakClient;
 using tessera::soak::SoakSetup;
 using Clock = std::chrono::steady_clock;
 
 struct Options {
   std::string server, token, models, small = "bigguy", large = "armorguy", json;
-  int serverPid = 0, clients = 32, hostile = 8, seed = 1;
+  int serverPid = 0, clients = 32, hostile = 8, cold = 0, seed = 1;
+  std::vector<std::string> coldModels{"bigguy", "monsterfrog", "car", "t-rex", "armorguy"};
+  double coldTolerance = 1e-3;
   double seconds = 600;
 };
 
@@ -122,6 +131,20 @@ struct Report {
   Outcome last;
 };
 
+// The cold storm's models, uploaded (as for the others, unless there) and read back to be copied.
+std::vector<tessera::cli::ColdSource> coldSources(v1::MeshService::Stub& stub, const Options& options) {
+  std::vector<tessera::cli::ColdSource> sources;
+  for (const std::string& model : options.coldModels) {
+    const v1::Mesh mesh =
+        ensureModel(stub, options, model, readText(std::filesystem::path(options.models) / (model + ".obj")));
+    grpc::ClientContext context;
+    tessera::soak::prepare(context, options.token, 300);
+    const grpc::Status read = tessera::cli::readColdSource(stub, context, mesh.name(), &sources.emplace_back());
+    if (!read.ok()) throw std::runtime_error("reading back " + mesh.name() + ": " + read.error_message());
+  }
+  return sources;
+}
+
 // Each client's loop until the end time; outcomes kept per client, merged at the end.
 std::vector<Outcome> runClients(const Options& options, const SoakSetup& setup) {
   std::vector<std::vector<Outcome>> perClient(size_t(options.clients));
@@ -131,10 +154,17 @@ std::vector<Outcome> runClients(const Options& options, const SoakSetup& setup) 
     threads.emplace_back([&, c] {
       SoakClient client(grpc::CreateChannel(options.server, grpc::InsecureChannelCredentials()));
       client.random.seed(uint32_t(options.seed * 1000 + c));
-      const bool hostile = c < options.hostile;
+      const Role role = c < options.hostile               ? Role::kHostile
+                        : c < options.hostile + options.cold ? Role::kCold
+                                                             : Role::kNormal;
+      std::vector<Outcome>& outcomes = perClient[size_t(c)];
       for (uint64_t serial = 0; Clock::now() < end; ++serial) {
-        perClient[size_t(c)].push_back(hostile ? tessera::soak::hostileRequest(client, setup, c, serial)
-                                               : tessera::soak::normalRequest(client, setup));
+        if (role == Role::kCold) {
+          for (Outcome& o : tessera::soak::coldRequest(client, setup, c, serial)) outcomes.push_back(std::move(o));
+        } else {
+          outcomes.push_back(role == Role::kHostile ? tessera::soak::hostileRequest(client, setup, c, serial)
+                                                    : tessera::soak::normalRequest(client, setup));
+        }
       }
     });
   }
@@ -144,8 +174,32 @@ std::vector<Outcome> runClients(const Options& options, const SoakSetup& setup) 
   return all;
 }
 
+// The cold storm's uploads and first GLBs: how many, how many succeeded, how many distinct
+// contents the server stored (each must be new, or the storm is not cold), refusals, latency.
+nlohmann::json coldJson(const Options& options, const std::vector<Outcome>& outcomes) {
+  int uploads = 0, glbs = 0, refused = 0;
+  std::set<std::string> contents;
+  std::vector<double> uploadMs, glbMs;
+  for (const Outcome& o : outcomes) {
+    if (o.role != Role::kCold) continue;
+    const bool upload = o.kind == "cold upload";
+    ++(upload ? uploads : glbs);
+    if (o.code == grpc::StatusCode::RESOURCE_EXHAUSTED) ++refused;
+    if (o.code != grpc::StatusCode::OK) continue;
+    (upload ? uploadMs : glbMs).push_back(o.ms);
+    if (upload) contents.insert(o.sha256);
+  }
+  return {{"clients", options.cold}, {"models", options.coldModels}, {"relative_tolerance", options.coldTolerance},
+          {"uploads", uploads}, {"uploads_ok", uploadMs.size()}, {"distinct_contents", contents.size()},
+          {"first_glbs", glbs}, {"first_glbs_ok", glbMs.size()}, {"refused", refused},
+          {"upload_p50_ms", percentile(uploadMs, 0.5)}, {"upload_p99_ms", percentile(uploadMs, 0.99)},
+          {"first_glb_p50_ms", percentile(glbMs, 0.5)}, {"first_glb_p99_ms", percentile(glbMs, 0.99)},
+          {"first_glb_max_ms", percentile(glbMs, 1.0)}};
+}
+
 nlohmann::json toJson(const Options& options, const Report& report) {
   nlohmann::json out = {{"clients", options.clients}, {"hostile_clients", options.hostile},
+                        {"cold_clients", options.cold},
                         {"seconds", report.seconds}, {"memory_budget_bytes", report.budget},
                         {"job_memory_bytes", report.jobBudget}, {"rss_before_bytes", report.rssBefore},
                         {"rss_after_bytes", report.rssAfter}, {"peak_rss_bytes", report.peak},
@@ -162,8 +216,8 @@ nlohmann::json toJson(const Options& options, const Report& report) {
     auto& [count, ms] = counts[{o.kind, code}];
     ++count, ms += o.ms;
     pushbacks += o.pushbacks;
-    if (!o.hostile) ++normal;
-    if (!o.hostile && o.code == grpc::StatusCode::OK) normalMs.push_back(o.ms);
+    if (o.role == Role::kNormal) ++normal;
+    if (o.role == Role::kNormal && o.code == grpc::StatusCode::OK) normalMs.push_back(o.ms);
     if (o.expected) continue;
     ++unexpected;
     if (examples.size() < 10) {
@@ -177,24 +231,36 @@ nlohmann::json toJson(const Options& options, const Report& report) {
   out["normal"] = {{"requests", normal}, {"ok", normalMs.size()}, {"pushbacks", pushbacks},
                    {"p50_ms", percentile(normalMs, 0.5)}, {"p99_ms", percentile(normalMs, 0.99)},
                    {"max_ms", percentile(normalMs, 1.0)}};
+  out["cold"] = coldJson(options, report.outcomes);
   out["unexpected"] = unexpected;
   out["unexpected_examples"] = examples;
   return out;
 }
 
 void printMarkdown(const nlohmann::json& r) {
-  std::printf("- %d clients (%d hostile) for %.0f s; memory budget %.0f MiB (%.0f MiB for jobs)\n",
-              r["clients"].get<int>(), r["hostile_clients"].get<int>(), r["seconds"].get<double>(),
-              mib(r["memory_budget_bytes"]), mib(r["job_memory_bytes"]));
+  std::printf("- %d clients (%d hostile, %d cold) for %.0f s; memory budget %.0f MiB (%.0f MiB for jobs)\n",
+              r["clients"].get<int>(), r["hostile_clients"].get<int>(), r["cold_clients"].get<int>(),
+              r["seconds"].get<double>(), mib(r["memory_budget_bytes"]), mib(r["job_memory_bytes"]));
   std::printf("- server resident memory: %.0f MiB before, peak %.0f MiB (VmHWM; %.0f MiB sampled every 20 ms), "
               "%.0f MiB after\n",
               mib(r["rss_before_bytes"]), mib(r["peak_rss_bytes"]), mib(r["peak_rss_sampled_bytes"]),
               mib(r["rss_after_bytes"]));
   const auto& n = r["normal"];
-  std::printf("- normal requests: %d, %d OK, %d pushbacks waited out; latency of the OK ones (pushbacks "
+  std::printf("- normal (warm) requests: %d, %d OK, %d pushbacks waited out; latency of the OK ones (pushbacks "
               "included) p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
               n["requests"].get<int>(), n["ok"].get<int>(), n["pushbacks"].get<int>(), n["p50_ms"].get<double>(),
               n["p99_ms"].get<double>(), n["max_ms"].get<double>());
+  const auto& c = r["cold"];
+  if (c["clients"].get<int>() > 0) {
+    std::printf("- cold storm (copies of the cold models at relative %g): %d uploads, %d OK, %d distinct contents; "
+                "%d first GLBs, %d OK; %d refused RESOURCE_EXHAUSTED; upload p50 %.1f ms, p99 %.1f ms; first GLB "
+                "p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
+                c["relative_tolerance"].get<double>(), c["uploads"].get<int>(), c["uploads_ok"].get<int>(),
+                c["distinct_contents"].get<int>(), c["first_glbs"].get<int>(), c["first_glbs_ok"].get<int>(),
+                c["refused"].get<int>(), c["upload_p50_ms"].get<double>(), c["upload_p99_ms"].get<double>(),
+                c["first_glb_p50_ms"].get<double>(), c["first_glb_p99_ms"].get<double>(),
+                c["first_glb_max_ms"].get<double>());
+  }
   std::printf("- answers with a code the request may not end with: %d; a normal request after the soak: %s\n\n",
               r["unexpected"].get<int>(), r["last_request_ok"].get<bool>() ? "OK" : "failed");
   std::printf("| request | answer | count | mean ms |\n|---|---|---:|---:|\n");
@@ -221,6 +287,9 @@ int run(const Options& options) {
   setup.smallMesh = "meshes/soak-" + options.small;
   setup.largeMesh = "meshes/soak-" + options.large;
   setup.smallView = viewOf(small);
+  setup.seed = options.seed;
+  setup.coldTolerance = options.coldTolerance;
+  if (options.cold > 0) setup.coldSources = coldSources(*meshes, options);
 
   // The patch sets built and cached before memory is first measured.
   SoakClient warm(channel);
@@ -267,13 +336,23 @@ int main(int argc, char** argv) {
   app.add_option("--large", options.large, "Model for hostile output requests")->capture_default_str();
   app.add_option("--clients", options.clients, "Clients, each on its own channel")->capture_default_str()->check(CLI::Range(1, 256));
   app.add_option("--hostile", options.hostile, "How many of them are hostile")->capture_default_str()->check(CLI::Range(0, 256));
+  app.add_option("--cold", options.cold, "How many of them are the cold storm")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 256));
+  app.add_option("--cold-models", options.coldModels, "Models the cold storm copies")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--cold-tolerance", options.coldTolerance, "Relative tolerance of the cold storm's tessellations")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("--seconds", options.seconds, "How long the clients run")->capture_default_str()->check(CLI::Range(1.0, 86400.0));
   app.add_option("--token", options.token, "The server's bearer token, if it has one");
   app.add_option("--seed", options.seed, "Seed of the clients' choices")->capture_default_str();
   app.add_option("--json", options.json, "Also write the results as JSON here");
   CLI11_PARSE(app, argc, argv);
-  if (options.hostile > options.clients) {
-    std::fprintf(stderr, "--hostile %d is more than --clients %d\n", options.hostile, options.clients);
+  if (options.hostile + options.cold > options.clients) {
+    std::fprintf(stderr, "--hostile %d and --cold %d are more than --clients %d\n", options.hostile, options.cold,
+                 options.clients);
     return 2;
   }
   try {

@@ -10,6 +10,8 @@
 #include <thread>
 #include <utility>
 
+#include "client/remote_upload.h"
+
 namespace tessera::soak {
 
 namespace {
@@ -93,11 +95,11 @@ v1::RenderRequest frameRequest(const std::string& mesh, const v1::Camera& camera
   return request;
 }
 
-Outcome finish(std::string kind, bool hostile, const Attempt& last, Clock::time_point start,
+Outcome finish(std::string kind, Role role, const Attempt& last, Clock::time_point start,
                std::initializer_list<Code> expected) {
   Outcome out;
   out.kind = std::move(kind);
-  out.hostile = hostile;
+  out.role = role;
   out.code = last.status.error_code();
   out.message = last.status.error_message();
   out.ms = msSince(start);
@@ -122,9 +124,19 @@ Outcome withRetries(const std::string& kind, double budgetSeconds, Call call) {
     ++pushbacks;
     std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(waitMs));
   }
-  Outcome out = finish(kind, false, attempt, start, {Code::OK});
+  Outcome out = finish(kind, Role::kNormal, attempt, start, {Code::OK});
   out.pushbacks = pushbacks;
   return out;
+}
+
+// Removes meshes/id; best effort (a mesh left behind costs only store space).
+void deleteMesh(SoakClient& client, const std::string& token, const std::string& id) {
+  grpc::ClientContext context;
+  prepare(context, token, 30);
+  v1::DeleteMeshRequest request;
+  request.set_name("meshes/" + id);
+  google::protobuf::Empty empty;
+  client.meshes->DeleteMesh(&context, request, &empty);
 }
 
 // Refused or cut short by the server's own limits: what any heavy request may end with.
@@ -141,14 +153,9 @@ Outcome creasedUpload(SoakClient& client, const SoakSetup& setup, const std::str
   if (attempt.status.ok()) {
     // Accepted: tessellate it under a deadline, then remove it.
     attempt = tessellate(client, setup.token, relativeRequest("meshes/" + id, 1e-2), 60);
-    grpc::ClientContext context;
-    prepare(context, setup.token, 30);
-    v1::DeleteMeshRequest request;
-    request.set_name("meshes/" + id);
-    google::protobuf::Empty empty;
-    client.meshes->DeleteMesh(&context, request, &empty);
+    deleteMesh(client, setup.token, id);
   }
-  return finish("creased upload", true, attempt, start, kHeavy);
+  return finish("creased upload", Role::kHostile, attempt, start, kHeavy);
 }
 
 Outcome malformedUpload(SoakClient& client, const SoakSetup& setup, const std::string& id) {
@@ -157,7 +164,20 @@ Outcome malformedUpload(SoakClient& client, const SoakSetup& setup, const std::s
   grpc::ClientContext context;
   const Attempt attempt{uploadObj(*client.meshes, context, setup.token, id, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n", 30),
                         pushbackMs(context)};
-  return finish("malformed upload", true, attempt, start, {Code::INVALID_ARGUMENT});
+  return finish("malformed upload", Role::kHostile, attempt, start, {Code::INVALID_ARGUMENT});
+}
+
+// A cold call ends well when it succeeds, or when the server refuses it for memory saying why
+// (a pushback has been waited out by then).
+Outcome asCold(Outcome out) {
+  out.role = Role::kCold;
+  out.expected = out.code == Code::OK || (out.code == Code::RESOURCE_EXHAUSTED && !out.message.empty());
+  return out;
+}
+
+// Copies of different seeds, clients and serials never share content.
+uint64_t copyNumber(int seed, int clientIndex, uint64_t serial) {
+  return (uint64_t(seed) << 40) + (uint64_t(clientIndex) << 32) + serial;
 }
 
 }  // namespace
@@ -214,31 +234,57 @@ Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientInd
       v1::TessellateRequest request;
       request.set_name(setup.largeMesh);
       request.set_uniform_level(40);
-      return finish("uniform level 40", true, tessellate(client, token, request, 120), start, kHeavy);
+      return finish("uniform level 40", Role::kHostile, tessellate(client, token, request, 120), start, kHeavy);
     }
     case 2:
-      return finish("relative 1e-5", true, tessellate(client, token, relativeRequest(setup.largeMesh, 1e-5), 120),
-                    start, kHeavy);
+      return finish("relative 1e-5", Role::kHostile,
+                    tessellate(client, token, relativeRequest(setup.largeMesh, 1e-5), 120), start, kHeavy);
     case 3:
       return malformedUpload(client, setup, id);
     case 4:
-      return finish("tolerance NaN", true, tessellate(client, token, relativeRequest(setup.smallMesh, std::nan("")), 30),
-                    start, {Code::INVALID_ARGUMENT});
+      return finish("tolerance NaN", Role::kHostile,
+                    tessellate(client, token, relativeRequest(setup.smallMesh, std::nan("")), 30), start,
+                    {Code::INVALID_ARGUMENT});
     case 5:
       // A heavy call whose client gives it 50 ms.
-      return finish("overdue 1e-4", true, tessellate(client, token, relativeRequest(setup.smallMesh, 1e-4), 0.05),
-                    start, kHeavy);
+      return finish("overdue 1e-4", Role::kHostile,
+                    tessellate(client, token, relativeRequest(setup.smallMesh, 1e-4), 0.05), start, kHeavy);
     case 6:
       // The client reads the first message and walks away.
-      return finish("abandoned 1e-3", true,
+      return finish("abandoned 1e-3", Role::kHostile,
                     tessellate(client, token, relativeRequest(setup.largeMesh, 1e-3), 120, 1), start,
                     {Code::CANCELLED, Code::OK, Code::RESOURCE_EXHAUSTED});
     default:
-      return finish("frame 8192x8192 raw", true,
+      return finish("frame 8192x8192 raw", Role::kHostile,
                     render(client, token,
                            frameRequest(setup.smallMesh, setup.smallView, 8192, 8192, v1::IMAGE_FORMAT_RAW_RGBA), 120),
                     start, kHeavy);
   }
+}
+
+std::vector<Outcome> coldRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial) {
+  const cli::ColdSource& source = setup.coldSources[(size_t(clientIndex) + serial) % setup.coldSources.size()];
+  const v1::MeshArrays copy = cli::coldCopy(source, copyNumber(setup.seed, clientIndex, serial));
+  cli::UploadOptions options;
+  options.meshId = "soak-cold-" + std::to_string(clientIndex) + "-" + std::to_string(serial);
+  options.subdivision = source.options;
+  std::string sha256;
+  std::vector<Outcome> outcomes{asCold(withRetries("cold upload", 120, [&](double seconds) {
+    grpc::ClientContext context;
+    prepare(context, setup.token, seconds);
+    v1::Mesh mesh;
+    Attempt attempt{cli::uploadMeshArrays(*client.meshes, context, copy, options, &mesh)};
+    attempt.pushback = pushbackMs(context);
+    sha256 = mesh.sha256();
+    return attempt;
+  }))};
+  if (outcomes.back().code != Code::OK) return outcomes;
+  outcomes.back().sha256 = sha256;
+  outcomes.push_back(asCold(withRetries("cold first GLB", 120, [&](double seconds) {
+    return tessellate(client, setup.token, relativeRequest("meshes/" + options.meshId, setup.coldTolerance), seconds);
+  })));
+  deleteMesh(client, setup.token, options.meshId);
+  return outcomes;
 }
 
 std::string creasedEverywhere(const std::string& objText) {

@@ -1,7 +1,8 @@
 // The requests of tools/soak (issue 16): normal ones, which a well-behaved client retries after
-// the server's pushback until they succeed, and hostile ones, each made to take memory or hold
+// the server's pushback until they succeed, hostile ones, each made to take memory or hold
 // the server (the reproducers of the memory budget's issue, malformed input, abandoned and
-// overdue calls), whose every answer must be one of the codes the API documents for them.
+// overdue calls), whose every answer must be one of the codes the API documents for them, and
+// the cold storm's (issue 46): uploads of meshes the server has never seen, each tessellated once.
 #pragma once
 
 #include <grpcpp/grpcpp.h>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "client/remote_cold_copies.h"
 #include "tessera/v1/mesh.grpc.pb.h"
 #include "tessera/v1/render.grpc.pb.h"
 #include "tessera/v1/tessellation.grpc.pb.h"
@@ -26,6 +28,9 @@ struct SoakSetup {
   std::string smallObj;     // the small mesh's OBJ text (the creased upload is made from it)
   v1::Camera smallView;     // the small mesh whole in a 256 x 256 view
   bool renderAvailable = false;
+  std::vector<cli::ColdSource> coldSources;  // the models the cold storm copies
+  double coldTolerance = 1e-3;               // relative, of the cold storm's tessellations
+  int seed = 1;                              // numbers the cold copies with the client and serial
 };
 
 // The bearer token (if any) and a deadline `seconds` from now on a call's context.
@@ -42,15 +47,18 @@ struct SoakClient {
 
 // One finished request: its kind, its final status, how many times the server pushed it back
 // (normal requests only) and its wall time from the first attempt to the final answer.
+enum class Role { kNormal, kHostile, kCold };
+
 struct Outcome {
   std::string kind;
-  bool hostile = false;
+  Role role = Role::kNormal;
   grpc::StatusCode code = grpc::StatusCode::OK;
   std::string message;
   int pushbacks = 0;
   double ms = 0;
   bool pushedBack = false;  // RESOURCE_EXHAUSTED with the server's retry hint (busy)
   bool expected = true;    // the code is one the request may end with
+  std::string sha256;      // a cold upload's content as the server stored it
 };
 
 // A normal request chosen at random (tessellations of the small mesh at two tolerances, a
@@ -62,6 +70,12 @@ Outcome normalRequest(SoakClient& client, const SoakSetup& setup);
 void warmUp(SoakClient& client, const SoakSetup& setup);
 // A hostile request chosen at random.
 Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial);
+
+// A cold storm request: a copy of one of the cold sources, with content of its own, uploaded,
+// tessellated once and deleted (its patch set stays in the server's cache until evicted); two
+// outcomes, the upload's and the tessellation's, or one if the upload was refused. Each is
+// retried after a pushback; OK, or RESOURCE_EXHAUSTED with a message, is what it may end with.
+std::vector<Outcome> coldRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial);
 
 // Every edge of the OBJ's faces a semi-sharp crease of sharpness 9.5 ("t crease" lines added).
 std::string creasedEverywhere(const std::string& objText);
