@@ -71,6 +71,57 @@ TEST(AdaptiveTessellation, MeasuredTwoSidedDistanceIsWithinTolerance) {
   }
 }
 
+// Issue 46's held-back class: semi-sharp creases running into a boundary, the boundary's
+// valence-2 vertices corners (the edge-and-corner rule). A piece of the unit sphere, 12 × 8 quads,
+// creases on four grid lines from boundary to boundary (tools/feature_meshes/creased_sheet.py).
+ControlMesh creasedSheet(double sharpness) {
+  constexpr int nx = 12, ny = 8;
+  std::string obj;
+  for (int j = 0; j <= ny; ++j) {
+    for (int i = 0; i <= nx; ++i) {
+      const double theta = (double(i) / nx - 0.5) * 2.2, phi = (double(j) / ny - 0.5) * 1.6;
+      obj += "v " + std::to_string(std::sin(theta) * std::cos(phi)) + " " + std::to_string(std::sin(phi)) + " " +
+             std::to_string(std::cos(theta) * std::cos(phi)) + "\n";
+    }
+  }
+  auto at = [](int i, int j) { return i + (nx + 1) * j; };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      obj += "f " + std::to_string(at(i, j) + 1) + " " + std::to_string(at(i + 1, j) + 1) + " " +
+             std::to_string(at(i + 1, j + 1) + 1) + " " + std::to_string(at(i, j + 1) + 1) + "\n";
+    }
+  }
+  obj += "t interpolateboundary 1/0/0 1\n";
+  auto crease = [&](int a, int b) {
+    obj += "t crease 2/1/0 " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(sharpness) + "\n";
+  };
+  for (int i : {3, 6, 9}) {
+    for (int j = 0; j < ny; ++j) crease(at(i, j), at(i, j + 1));
+  }
+  for (int i = 0; i < nx; ++i) crease(at(i, ny / 2), at(i + 1, ny / 2));
+  return readObj(obj, "creased sheet");
+}
+
+// That class within ε at the three tolerances, for creases that soften over two levels and over seven.
+TEST(AdaptiveTessellation, SemiSharpCreasesIntoABoundaryStayWithinTolerance) {
+  for (double sharpness : {2.0, 7.0}) {
+    const ControlMesh mesh = creasedSheet(sharpness);
+    ASSERT_EQ(mesh.creases.size(), 36u);
+    const testing::LimitSurface surface(mesh);
+    for (double relative : {1e-2, 1e-3, 1e-4}) {
+      SCOPED_TRACE("sharpness " + std::to_string(sharpness) + " at " + std::to_string(relative));
+      PreprocessingOptions preprocessing;
+      preprocessing.finestRelativeTolerance = relative;
+      const PatchSet set = buildPatchSet(mesh, preprocessing);
+      const TessellationResult result = tessellateAt(mesh, set, relative);
+      const testing::LimitDistanceReport report = measureLimitDistance(surface, testing::viewOf(result.mesh));
+      EXPECT_LE(report.twoSidedRelative(), relative + testing::LimitSurface::kRelativeAccuracy);
+      std::printf("creased sheet %.0f eps %.0e: %6zu triangles, measured %.2f of eps\n", sharpness, relative,
+                  result.mesh.triangleCount(), report.twoSidedRelative() / relative);
+    }
+  }
+}
+
 // Each infinitely sharp edge's two faces, as (lo, hi) vertex pairs.
 std::set<std::pair<int, int>> sharpEdges(const ControlMesh& mesh) {
   std::set<std::pair<int, int>> edges;
