@@ -7,8 +7,6 @@
 #include <optional>
 
 #include "core/bounds/axis_reparameterization.h"
-#include "core/bounds/graded_pair_bound.h"
-#include "core/math/bicubic.h"
 #include "core/math/dyadic.h"
 #include "core/surface/pair_tightening.h"
 #include "core/surface/surface_evaluation.h"
