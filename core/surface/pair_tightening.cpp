@@ -27,9 +27,7 @@ PairTightening::PairTightening(size_t nodes)
       ownPair(nodes, 0),
       ownBows(nodes, {0, 0, 0, 0}),
       size_(nodes),
-      state_(nodes),
       pairs_(nodes),
-      directState_(nodes),
       direct_(nodes),
       lowerBounds_(nodes, 0),
       deferred_(nodes, Deferred::kNone),
@@ -50,25 +48,9 @@ void PairTightening::deferDirect(uint32_t node, double lower) {
   roundDown(lower, lowerBounds_[node]);
 }
 
-void PairTightening::publish(uint32_t node, const NodePair& pair) const {
-  uint8_t expected = kEmpty;
-  const std::atomic_ref state(state_[node]);
-  if (!state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) return;
-  pairs_[node] = pair;
-  state.store(kDone, std::memory_order_release);
-}
-
-void PairTightening::publishDirect(uint32_t node, const DirectBounds& direct) const {
-  uint8_t expected = kEmpty;
-  const std::atomic_ref state(directState_[node]);
-  if (!state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) return;
-  direct_[node] = direct;
-  state.store(kDone, std::memory_order_release);
-}
-
 size_t PairTightening::bytes() const {
   const size_t perNode = sizeof(std::array<Vec3d, 4>) + sizeof(double) + sizeof(std::array<double, 4>) +
-                         2 * sizeof(uint8_t) + sizeof(NodePair) + sizeof(DirectBounds) + sizeof(float) +
+                         PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(float) +
                          sizeof(Deferred) + sizeof(uint8_t);
   return sizeof(*this) + size_ * perNode;
 }

@@ -10,13 +10,12 @@
 #pragma once
 
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "core/base/vec3.h"
-#include "core/base/zeroed_slots.h"
+#include "core/base/published_slots.h"
 
 namespace tessera {
 
@@ -74,28 +73,22 @@ class PairTightening {
   // Whether tightening `node` could bring its pair within `epsilon`; false guarantees that the
   // tightened pair is above it.
   bool mayReach(uint32_t node, double epsilon) const { return lowerBounds_[node] <= epsilon * (1 + 1e-6); }
-  bool known(uint32_t node) const { return std::atomic_ref(state_[node]).load(std::memory_order_acquire) == kDone; }
+  bool known(uint32_t node) const { return pairs_.known(node); }
   NodePair cached(uint32_t node) const { return pairs_[node]; }
   // Publishes `pair` as node's tightened bounds unless another thread did first.
-  void publish(uint32_t node, const NodePair& pair) const;
-  bool directKnown(uint32_t node) const {
-    return std::atomic_ref(directState_[node]).load(std::memory_order_acquire) == kDone;
-  }
+  void publish(uint32_t node, const NodePair& pair) const { pairs_.publish(node, pair); }
+  bool directKnown(uint32_t node) const { return direct_.known(node); }
   const DirectBounds& directCached(uint32_t node) const { return direct_[node]; }
   // Publishes an internal node's direct bounds unless another thread did first.
-  void publishDirect(uint32_t node, const DirectBounds& direct) const;
+  void publishDirect(uint32_t node, const DirectBounds& direct) const { direct_.publish(node, direct); }
   size_t bytes() const;
 
  private:
-  static constexpr uint8_t kEmpty = 0, kWriting = 1, kDone = 2;
   static void roundDown(double lower, float& out);
   size_t size_ = 0;
-  // What requests compute, per node: written for the few nodes a request reads, so kept in pages
-  // that cost memory only once written. The states are accessed atomically (std::atomic_ref).
-  ZeroedSlots<uint8_t> state_;
-  ZeroedSlots<NodePair> pairs_;
-  ZeroedSlots<uint8_t> directState_;
-  ZeroedSlots<DirectBounds> direct_;
+  // What requests compute, per node: written for the few nodes a request reads.
+  PublishedSlots<NodePair> pairs_;
+  PublishedSlots<DirectBounds> direct_;
   std::vector<float> lowerBounds_;
   std::vector<Deferred> deferred_;
   std::vector<uint8_t> directDeferred_;

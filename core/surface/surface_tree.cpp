@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "core/base/error.h"
@@ -401,8 +400,7 @@ SurfaceTree TreeBuilder::build(double chainFloor) {
     tree_.roots[root].node = slot;
     fill(slot, 0, 0, 0, items[root]);
   }
-  tree_.edgeCurvature = ZeroedSlots<EdgeCurvature>(tree_.nodes.size());
-  tree_.edgeCurvatureState = ZeroedSlots<uint8_t>(tree_.nodes.size());
+  tree_.edgeCurvature = PublishedSlots<EdgeCurvature>(tree_.nodes.size());
   tree_.tightening = PairTightening(tree_.nodes.size());
   tree_.tightening.floor = floor_;
   // Roots are independent: every slot they write was allocated above.
@@ -419,7 +417,7 @@ SurfaceTree TreeBuilder::build(double chainFloor) {
 
 size_t SurfaceTree::bytes() const {
   return sizeof(*this) + roots.size() * sizeof(SurfaceRoot) + faceFirstRoot.size() * sizeof(int) +
-         nodes.size() * (sizeof(SurfaceNode) + sizeof(EdgeCurvature) + 1) + fasLeaves.size() * sizeof(FasLeaf) +
+         nodes.size() * (sizeof(SurfaceNode) + PublishedSlots<EdgeCurvature>::kBytesPerSlot) + fasLeaves.size() * sizeof(FasLeaf) +
          evBottoms.size() * sizeof(EvBottom) + chainDepth.size() + refinedOffsets.size() * sizeof(size_t) +
          refinedLevels.size() * sizeof(float) + tightening.bytes();
 }
@@ -430,15 +428,9 @@ SurfaceTree buildSurfaceTree(const PatchSet& patches, const ControlMesh& mesh, c
 }
 
 EdgeCurvature edgeCurvatureOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node) {
-  constexpr uint8_t kWriting = 1, kDone = 2;
-  const std::atomic_ref state(tree.edgeCurvatureState[node]);
-  if (state.load(std::memory_order_acquire) == kDone) return tree.edgeCurvature[node];
+  if (tree.edgeCurvature.known(node)) return tree.edgeCurvature[node];
   const EdgeCurvature edges = edgeCurvature(pieceNet(tree, patches, node));
-  uint8_t expected = 0;
-  if (state.compare_exchange_strong(expected, kWriting, std::memory_order_acquire)) {
-    tree.edgeCurvature[node] = edges;
-    state.store(kDone, std::memory_order_release);
-  }
+  tree.edgeCurvature.publish(node, edges);
   return edges;
 }
 

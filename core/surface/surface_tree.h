@@ -14,7 +14,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/base/zeroed_slots.h"
+#include "core/base/published_slots.h"
 #include "core/bounds/edge_curvature.h"
 #include "core/math/bezier_net.h"
 #include "core/mesh/control_mesh.h"
@@ -109,8 +109,7 @@ struct SurfaceTree {
   // Per node, for regular and FAS leaves (one bicubic piece each): docs/ADAPTIVE.md §2a's data of
   // the piece over its square, computed where a request first needs it (edgeCurvatureOf) and
   // kept; a slot costs resident memory once written.
-  ZeroedSlots<EdgeCurvature> edgeCurvature;
-  ZeroedSlots<uint8_t> edgeCurvatureState;
+  PublishedSlots<EdgeCurvature> edgeCurvature;
   std::vector<FasLeaf> fasLeaves;
   std::vector<EvBottom> evBottoms;
   // Each ring refined through its chain: FAS level j ≥ 1 of ring r is its refined (12n+1) set,
