@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/adaptive/grid_rates.h"
+#include "core/adaptive/piece_pair_bounds.h"
 #include "core/adaptive/tile_neighbors.h"
 #include "core/adaptive/tile_rectangles.h"
 #include "core/base/parallel_chunks.h"
@@ -40,33 +41,6 @@ constexpr int64_t kPendingSaving = 7;
 // (tile coordinates stay exact integers).
 constexpr int kMaxSplitBelowLeaf = 16;
 constexpr int kMaxTileLevel = 48;
-
-// The (1, 1) grid's bounds for an exact piece (SurfaceNode::pairBound and sideBow with r = 0):
-// the pair, and what points on each side add (needed only where the pair is within ε).
-double exactPairBound(const BezierNet& net) {
-  Vec3d corners[4];
-  for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
-  const Vec3d twist = corners[0] - corners[1] + corners[2] - corners[3];
-  return (splitNetDistance(net, bilinearNet(corners)) + length(twist) / 4) * (1 + 1e-9);
-}
-void exactSideBows(const BezierNet& net, double bows[4]) {
-  Vec3d corners[4];
-  for (int c = 0; c < 4; ++c) corners[c] = net[kCornerIndex[c]];
-  const std::array<double, 4> chord = chordBows(net, corners);
-  for (int side = 0; side < 4; ++side) bows[side] = chord[side] * (1 + 1e-9);
-}
-
-// |f(½, ½) − L(½, ½)| for the bilinear L through the corners: the pair bound is at least this.
-double centreGap(const BezierNet& net) {
-  static constexpr double kWeight[4] = {1 / 8.0, 3 / 8.0, 3 / 8.0, 1 / 8.0};
-  Vec3d centre;
-  for (int row = 0; row < 4; ++row) {
-    for (int col = 0; col < 4; ++col) centre += net[4 * row + col] * (kWeight[row] * kWeight[col]);
-  }
-  Vec3d bilinear;
-  for (int c = 0; c < 4; ++c) bilinear += net[kCornerIndex[c]] * 0.25;
-  return length(centre - bilinear);
-}
 
 // Corner c of a square: which side it lies on along u and along v.
 int cornerU(int c) { return c == 1 || c == 2 ? 1 : 0; }
