@@ -12,9 +12,10 @@
 //       cache and the output buffers made, then per face on both cores positions, normals and
 //       facets (bench/bfr_oracle.h), and freeing it all. No GLB, which only favours Bfr.
 //   BM_Edit_Tessera/<model>/<eps>       the same topology with every vertex moved
-//       (bench/smooth_edit.h, another frame each iteration) to a GLB. Core keeps nothing from one
-//       mesh to the next today, so this is the cold path on the moved mesh; TopologyReuse below
-//       is where a topology cache goes when core has one.
+//       (bench/smooth_edit.h, another frame each iteration) to a GLB, with the rest mesh's
+//       topology (core's MeshTopology: Far's refinement, the pieces' layout, the seams) made once
+//       in setup, as the server's patch-set cache keeps it for an edited cage: each frame refines
+//       and gathers its positions, builds its surface, tessellates and writes the GLB.
 //   BM_Edit_OsdBfrOracle/<model>/<eps>  what OpenSubdiv users do for animation: the refiner, the
 //       factory, each face's Surface and the facets made once in setup; per frame, patch points
 //       from the new positions and evaluation (positions and normals) at the rest mesh's oracle
@@ -24,7 +25,8 @@
 // clock starts. Counters: peak_mib, the process's resident high-water mark above its size before
 // the benchmark made anything but its input, over setup and every iteration (bench/peak_memory.h);
 // kept_mib, what setup keeps resident between iterations; triangles; the stages' mean times
-// (Tessera: preprocess_ms, of it far_refine_ms up to the end of Far's adaptive refinement,
+// (Tessera: preprocess_ms, of it topology_ms up to the end of the topology — validation, sheets,
+// Far's refinement and the pieces' layout; nothing on the edit path,
 // tessellate_ms, glb_ms, free_ms; Bfr: setup_ms for the refiner, the
 // factory and the buffers (the edit's: once, with the surfaces and facets, untimed), evaluate_ms,
 // free_ms); others_cpu and core_round_trip_ns as in
@@ -58,24 +60,23 @@ double millisecondsBetween(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double, std::milli>(to - from).count();
 }
 
-// What Tessera keeps from a mesh's first frame for later frames that move only its positions.
-// Nothing yet: buildPatchSet refines with Far, reduces to patches and rings and builds the
-// surface tree from the positions in one pass, and core has no topology cache. When it has one
-// (Far's refinement, the patch and ring layout, the stencils from control points to refined
-// points), make it in the constructor (setup, not timed, counted in kept_mib) and use it in
-// patchSet; the benchmark's loop stays as it is.
+// What Tessera keeps from a mesh's first frame for later frames that move only its positions: its
+// topology (core/pipeline/preprocessing.h), made in setup (untimed, counted in kept_mib).
 class TopologyReuse {
  public:
-  explicit TopologyReuse(const ControlMesh& /*firstFrame*/) {}
+  explicit TopologyReuse(const ControlMesh& firstFrame) : topology_(buildMeshTopology(firstFrame)) {}
   PatchSet patchSet(const ControlMesh& moved, const PreprocessingOptions& options) const {
-    return buildPatchSet(moved, options);
+    return buildPatchSet(moved, *topology_, options);
   }
+
+ private:
+  std::shared_ptr<const MeshTopology> topology_;
 };
 
 // Sums of each stage's time over the iterations, and the last job's size.
 struct TesseraStages {
   double preprocess = 0, tessellate = 0, glb = 0, release = 0;
-  double refine = 0;  // of preprocess: up to Far's adaptive refinement (validation, sheets, Far)
+  double refine = 0;  // of preprocess: up to the end of the topology (validation, sheets, Far, layout)
   int64_t triangles = 0;
   double boundOverEps = 0;
   size_t glbBytes = 0;
@@ -83,7 +84,8 @@ struct TesseraStages {
 
 // A GLB from a mesh: the patch set from `makePatchSet(mesh, options)` (preprocessing), the
 // adaptive tessellation and the float GLB, everything freed before returning. Preprocessing's
-// afterRefining hook (which costs nothing) splits its time at the end of Far's refinement.
+// afterRefining hook (which costs nothing; its last call is where the positions' part begins)
+// splits its time at the end of the topology.
 template <class MakePatchSet>
 void tesseraGlb(const ControlMesh& mesh, const std::string& name,
                 const TessellationOptions& options, MakePatchSet makePatchSet,
@@ -155,7 +157,7 @@ void reportMemory(benchmark::State& state, const PeakMemory& memory, double kept
 void reportTessera(benchmark::State& state, const TesseraStages& stages) {
   const double n = double(std::max<benchmark::IterationCount>(1, state.iterations()));
   state.counters["preprocess_ms"] = stages.preprocess / n;
-  state.counters["far_refine_ms"] = stages.refine / n;
+  state.counters["topology_ms"] = stages.refine / n;
   state.counters["tessellate_ms"] = stages.tessellate / n;
   state.counters["glb_ms"] = stages.glb / n;
   state.counters["free_ms"] = stages.release / n;

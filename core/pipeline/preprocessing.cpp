@@ -1,17 +1,43 @@
 #include "core/pipeline/preprocessing.h"
 
 #include "core/surface/adaptive_surface.h"
+#include "core/topology/limit_uvs.h"
 #include "core/surface/tolerance_model.h"
-#include "core/topology/refinement_input.h"
 
 namespace tessera {
 
+MeshTopology::MeshTopology(const ControlMesh& mesh, const PreprocessingOptions& options)
+    : pieces(mesh, options), seams(pieces.seamFaces()) {
+  if (!mesh.hasUvs()) return;
+  uvValues = mesh.uvs;
+  uvs = std::make_shared<const LimitUvs>(mesh);
+}
+
+size_t MeshTopology::bytes() const {
+  auto bytesOf = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return pieces.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
+         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + bytesOf(uvValues) +
+         (uvs ? uvs->bytes() : 0);
+}
+
+std::shared_ptr<const MeshTopology> buildMeshTopology(const ControlMesh& mesh, const PreprocessingOptions& options) {
+  return std::make_shared<const MeshTopology>(mesh, options);
+}
+
 PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options) {
   validateControlMesh(mesh);
-  const RefinementInput input(mesh);
-  PatchSet patches = reduceToPatches(mesh, input, options);
-  patches.adaptive = buildAdaptiveSurface(patches, input, mesh, options.checkpoint,
-                                          chainFloorFor(options.finestRelativeTolerance));
+  return buildPatchSet(mesh, *buildMeshTopology(mesh, options), options);
+}
+
+PatchSet buildPatchSet(const ControlMesh& mesh, const MeshTopology& topology, const PreprocessingOptions& options) {
+  validateControlMesh(mesh);
+  // What the patch set is made of grows with the refinement (memory_estimates.h), known here
+  // whether the topology was built now or before.
+  if (options.afterRefining) options.afterRefining(topology.pieces.refinedVertices());
+  const bool sameUvs = topology.uvs && mesh.uvs == topology.uvValues;
+  PatchSet patches = reduceToPatches(mesh, topology.pieces, options.checkpoint, sameUvs ? topology.uvs : nullptr);
+  patches.adaptive = buildAdaptiveSurface(patches, topology.pieces.sheetFaces(), topology.seams, mesh.vertexCount(),
+                                          options.checkpoint, chainFloorFor(options.finestRelativeTolerance));
   return patches;
 }
 

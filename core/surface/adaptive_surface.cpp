@@ -8,16 +8,16 @@ size_t AdaptiveSurface::bytes() const {
          bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + lines.bytes();
 }
 
-std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const RefinementInput& input,
-                                                            const ControlMesh& mesh,
+std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const ControlMesh& sheetFaces,
+                                                            const SeamTopology& seams, int vertexCount,
                                                             const std::function<void()>& checkpoint,
                                                             double chainFloor) {
   auto surface = std::make_shared<AdaptiveSurface>();
-  surface->tree = buildSurfaceTree(patches, input.sheets(), checkpoint, chainFloor);
+  surface->tree = buildSurfaceTree(patches, sheetFaces, checkpoint, chainFloor);
   if (checkpoint) checkpoint();
-  surface->seams = SeamTopology(input.cut().seamsOf(mesh));
+  surface->seams = seams;
   surface->rootSeams = RootSeams(surface->tree, surface->seams);
-  surface->lines = SeamLines(surface->tree, surface->seams, mesh.vertexCount());
+  surface->lines = SeamLines(surface->tree, surface->seams, vertexCount);
   return surface;
 }
 

@@ -12,7 +12,6 @@
 #include "core/surface/seam_lines.h"
 #include "core/surface/seam_topology.h"
 #include "core/surface/surface_tree.h"
-#include "core/topology/refinement_input.h"
 
 namespace tessera {
 
@@ -25,11 +24,13 @@ struct AdaptiveSurface {
   size_t bytes() const;
 };
 
-// The surface tree over `patches` (reduced from `input`'s sheets of `mesh`), its chains down to
-// `chainFloor` (surface_tree.h), and the seams between its roots. `checkpoint`, when given, is
-// called for every root and between the stages, and may throw to abandon the work.
-std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const RefinementInput& input,
-                                                            const ControlMesh& mesh,
+// The surface tree over `patches` (reduced from a mesh of `vertexCount` vertices whose manifold
+// sheets have the faces `sheetFaces`; positions are not read), its chains down to `chainFloor`
+// (surface_tree.h), and the seams between its roots (`seams`, the mesh's seam topology, copied).
+// `checkpoint`, when given, is called for every root and between the stages, and may throw to
+// abandon the work.
+std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const ControlMesh& sheetFaces,
+                                                            const SeamTopology& seams, int vertexCount,
                                                             const std::function<void()>& checkpoint,
                                                             double chainFloor = kChainFloor);
 

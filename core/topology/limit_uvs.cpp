@@ -50,6 +50,15 @@ LimitUvs::LimitUvs(const ControlMesh& mesh) : impl_(std::make_unique<Impl>()) {
 
 LimitUvs::~LimitUvs() = default;
 
+size_t LimitUvs::bytes() const {
+  size_t bytes = sizeof(Impl) + impl_->faces.capacity() * sizeof(Impl::FaceSurface);
+  for (const Impl::FaceSurface& face : impl_->faces) {
+    bytes += face.points.capacity() * sizeof(double);
+    if (face.surface.IsValid()) bytes += size_t(face.surface.GetNumControlPoints()) * sizeof(int);
+  }
+  return bytes;
+}
+
 std::vector<std::array<float, 2>> LimitUvs::evaluate(const std::vector<UvQuery>& queries) const {
   std::vector<std::array<float, 2>> result(queries.size(), {0.0f, 0.0f});
   tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 1024), [&](const auto& range) {

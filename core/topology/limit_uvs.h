@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -24,6 +25,9 @@ class LimitUvs {
   ~LimitUvs();
   LimitUvs(const LimitUvs&) = delete;
   LimitUvs& operator=(const LimitUvs&) = delete;
+
+  // Resident bytes, for a cache's budget: each face's surface, its control indices and patch points.
+  size_t bytes() const;
 
   // The UV at each query, on all cores.
   std::vector<std::array<float, 2>> evaluate(const std::vector<UvQuery>& queries) const;

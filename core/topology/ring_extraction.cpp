@@ -1,6 +1,8 @@
 #include "core/topology/ring_extraction.h"
 
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "core/base/error.h"
 #include "core/rings/fas.h"
@@ -43,12 +45,12 @@ VertexCheck checkRingVertex(const Far::TopologyLevel& level, int levelIndex, Ind
   return VertexCheck::kRegular;
 }
 
-std::optional<GatheredRing> gatherAt(const RefinedMesh& mesh, int levelIndex, Index ev) {
-  const auto& level = mesh.refiner.GetLevel(levelIndex);
+std::optional<RingLayout> gatherAt(const RefinedLevels& levels, int levelIndex, Index ev) {
+  const auto& level = levels.refiner.GetLevel(levelIndex);
   LatticeWalker walker(level);
   auto sectors = walker.sectorsAround(ev);
   if (!sectors) return std::nullopt;
-  GatheredRing ring;
+  RingLayout ring;
   ring.shape = {static_cast<int>(sectors->faces.size()), sectors->open};
   std::vector<Index> vertices = walker.gather(*sectors, 2);
   for (Index v : vertices) {
@@ -78,16 +80,16 @@ std::optional<GatheredRing> gatherAt(const RefinedMesh& mesh, int levelIndex, In
   float evSharpness = level.GetVertexSharpness(ev);
   if (evSharpness > 0.0f && evSharpness < 10.0f) refuse(levelIndex, ev, "a semi-sharp corner");
   ring.cornerEv = evSharpness >= 10.0f;
-  for (Index v : vertices) ring.points.push_back(mesh.position(levelIndex, v));
+  for (Index v : vertices) ring.points.push_back(levels.index(levelIndex, v));
   ring.sectorFaces = sectors->faces;
   ring.sectorRotations = sectors->rotation;
   return ring;
 }
 
 // Child face j of a quad lies at the parent's corner j and keeps that corner at local index j.
-Index parentVertex(const RefinedMesh& mesh, int levelIndex, Index ev) {
-  const auto& level = mesh.refiner.GetLevel(levelIndex);
-  const auto& parent = mesh.refiner.GetLevel(levelIndex - 1);
+Index parentVertex(const Far::TopologyRefiner& refiner, int levelIndex, Index ev) {
+  const auto& level = refiner.GetLevel(levelIndex);
+  const auto& parent = refiner.GetLevel(levelIndex - 1);
   for (Index face : level.GetVertexFaces(ev)) {
     Index parentFace = level.GetFaceParentFace(face);
     auto children = parent.GetFaceChildFaces(parentFace);
@@ -100,24 +102,15 @@ Index parentVertex(const RefinedMesh& mesh, int levelIndex, Index ev) {
   return -1;
 }
 
-GatheredRing refineOneStep(const RefinedMesh& mesh, int levelIndex, Index ev, const GatheredRing& coarse) {
-  const auto& parent = mesh.refiner.GetLevel(levelIndex - 1);
-  GatheredRing fine = coarse;
-  std::vector<float> relative;
-  for (const Vec3d& p : coarse.points) {
-    Vec3d d = p - coarse.points[0];
-    relative.insert(relative.end(), {float(d.x), float(d.y), float(d.z)});
-  }
-  RingRules rules = makeRingRules(coarse.shape, coarse.sharpSpokes.data(), coarse.cornerEv);
-  std::vector<float> refined = refineRing(rules, relative.data(), 1);
-  for (int p = 0; p < coarse.shape.ringPointCount(); ++p) {
-    fine.points[p] = coarse.points[0] + Vec3d(Vec3(refined[3 * p], refined[3 * p + 1], refined[3 * p + 2]));
-  }
-  for (int i = 0; i < coarse.shape.sectors; ++i) {
-    int rotation = coarse.sectorRotations[i];
-    fine.sectorFaces[i] = parent.GetFaceChildFaces(coarse.sectorFaces[i])[rotation];
-    if (fine.sectorFaces[i] < 0 ||
-        mesh.refiner.GetLevel(levelIndex).GetFaceVertices(fine.sectorFaces[i])[rotation] != ev) {
+// The coarse ring's sector faces one level down; its points are refined by ringPoints.
+RingLayout refinedOneStep(const Far::TopologyRefiner& refiner, int levelIndex, Index ev, RingLayout coarse) {
+  const auto& parent = refiner.GetLevel(levelIndex - 1);
+  RingLayout fine = std::move(coarse);
+  fine.refinedOnce = true;
+  for (int i = 0; i < fine.shape.sectors; ++i) {
+    int rotation = fine.sectorRotations[i];
+    fine.sectorFaces[i] = parent.GetFaceChildFaces(fine.sectorFaces[i])[rotation];
+    if (fine.sectorFaces[i] < 0 || refiner.GetLevel(levelIndex).GetFaceVertices(fine.sectorFaces[i])[rotation] != ev) {
       refuse(levelIndex, ev, "the faces around it are missing from the refined level");
     }
   }
@@ -126,13 +119,33 @@ GatheredRing refineOneStep(const RefinedMesh& mesh, int levelIndex, Index ev, co
 
 }  // namespace
 
-GatheredRing extractRing(const RefinedMesh& mesh, int level, Index ev) {
-  if (auto ring = gatherAt(mesh, level, ev)) return *ring;
-  Index parentEv = level > 0 ? parentVertex(mesh, level, ev) : -1;
+RingLayout layoutRing(const RefinedLevels& levels, int level, Index ev) {
+  if (auto ring = gatherAt(levels, level, ev)) return std::move(*ring);
+  Index parentEv = level > 0 ? parentVertex(levels.refiner, level, ev) : -1;
   if (parentEv < 0) refuse(level, ev, "incomplete lattice");
-  auto coarse = gatherAt(mesh, level - 1, parentEv);
+  auto coarse = gatherAt(levels, level - 1, parentEv);
   if (!coarse) refuse(level, ev, "incomplete lattice one level up too");
-  return refineOneStep(mesh, level, ev, *coarse);
+  return refinedOneStep(levels.refiner, level, ev, std::move(*coarse));
+}
+
+std::vector<Vec3d> ringPoints(const RingLayout& ring, const std::vector<Vec3d>& refinedPositions) {
+  std::vector<Vec3d> points;
+  points.reserve(ring.points.size());
+  for (int v : ring.points) points.push_back(refinedPositions[size_t(v)]);
+  if (!ring.refinedOnce) return points;
+  // One FAS step in single precision about the EV, as the rings are stored (patch_set.h).
+  std::vector<float> relative;
+  for (const Vec3d& p : points) {
+    Vec3d d = p - points[0];
+    relative.insert(relative.end(), {float(d.x), float(d.y), float(d.z)});
+  }
+  RingRules rules = makeRingRules(ring.shape, ring.sharpSpokes.data(), ring.cornerEv);
+  std::vector<float> refined = refineRing(rules, relative.data(), 1);
+  const Vec3d ev = points[0];
+  for (int p = 0; p < ring.shape.ringPointCount(); ++p) {
+    points[p] = ev + Vec3d(Vec3(refined[3 * p], refined[3 * p + 1], refined[3 * p + 2]));
+  }
+  return points;
 }
 
 }  // namespace tessera

@@ -60,7 +60,9 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
         memory->hold(held, preprocessingBytes(mesh, refined), "preprocessing the mesh");
       };
     }
-    auto patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
+    validateControlMesh(mesh);
+    std::shared_ptr<const MeshTopology> topology = topologyOf(mesh, cancel, memory, options);
+    auto patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, *topology, options));
     cache_.insert(keyAt(meshSha256, floor), patches, bytesOf(*patches));
     return patches;
   };
@@ -74,6 +76,33 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
   std::shared_ptr<const PatchSet> patches = builds_.get(keyAt(meshSha256, floor), cancel, memory, cached, build);
   if (!built) hits_.fetch_add(1);
   return patches;
+}
+
+// Built with the first mesh's options (its refinement hooks reserve the job's memory); a build
+// another call has under way is waited for.
+std::shared_ptr<const MeshTopology> PatchSetCache::topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
+                                                              MemoryReservation* memory,
+                                                              const PreprocessingOptions& options) {
+  const std::string key = topologySha256(mesh);
+  bool built = false;
+  auto build = [&] {
+    built = true;
+    topologyMisses_.fetch_add(1);
+    auto topology = buildMeshTopology(mesh, options);
+    topologies_.insert(key, topology, topology->bytes());
+    return topology;
+  };
+  auto cached = [&] { return topologies_.find(key); };
+  std::shared_ptr<const MeshTopology> topology = topologyBuilds_.get(key, cancel, memory, cached, build);
+  if (!built) topologyHits_.fetch_add(1);
+  return topology;
+}
+
+CacheStats PatchSetCache::topologyStats() const {
+  CacheStats stats = topologies_.stats();
+  stats.hits = topologyHits_.load();
+  stats.misses = topologyMisses_.load();
+  return stats;
 }
 
 CacheStats PatchSetCache::stats() const {

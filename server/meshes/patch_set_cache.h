@@ -9,6 +9,12 @@
 // under another id, or uploaded again, meets the patch set already built, and a mesh deleted and
 // re-uploaded with other content under the same id never meets a stale one. Concurrent misses of
 // one key build it once (single_flight.h).
+//
+// A patch set's topology (core's MeshTopology: Far's refinement, the pieces' layout, the seams) is
+// cached beside it, keyed by core's topologySha256: a mesh with the same faces, tags, rules and UV
+// topology and moved vertices (a modelling tool's edited cage, a frame of an animated one) is
+// preprocessed from its positions alone (docs/DECISIONS.md "Edits reuse topology"). Topologies
+// take a quarter of the byte budget, patch sets the rest.
 #pragma once
 
 #include <atomic>
@@ -17,6 +23,7 @@
 
 #include "core/base/error.h"
 #include "core/mesh/control_mesh.h"
+#include "core/pipeline/preprocessing.h"
 #include "core/rings/patch_set.h"
 #include "server/calls/cancellation.h"
 #include "server/calls/memory_reservation.h"
@@ -29,7 +36,7 @@ class PatchSetCache {
  public:
   // maxRefinedVertices: core's PreprocessingOptions limit, applied to every mesh preprocessed.
   PatchSetCache(size_t byteBudget, int64_t maxRefinedVertices)
-      : cache_(byteBudget), maxRefinedVertices_(maxRefinedVertices) {}
+      : cache_(byteBudget - byteBudget / 4), topologies_(byteBudget / 4), maxRefinedVertices_(maxRefinedVertices) {}
 
   // The patch set of `mesh`, whose canonical encoding has SHA-256 `meshSha256` (hex, as
   // MeshMetadata and tessera.v1.Mesh give it): from the cache, from the build another call has
@@ -51,10 +58,19 @@ class PatchSetCache {
   // hits: calls that found the patch set built (in the cache, or by the build they waited for);
   // misses: builds started (each preprocessing, finished or not).
   CacheStats stats() const;
+  // hits: preprocessings that reused a cached topology; misses: topologies built.
+  CacheStats topologyStats() const;
 
  private:
+  std::shared_ptr<const MeshTopology> topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
+                                                 MemoryReservation* memory, const PreprocessingOptions& options);
+
   LruCache<std::string, PatchSet> cache_;
   SingleFlight<std::string, PatchSet, TesseraError> builds_;
+  LruCache<std::string, MeshTopology> topologies_;
+  SingleFlight<std::string, MeshTopology, TesseraError> topologyBuilds_;
+  std::atomic<uint64_t> topologyHits_{0};
+  std::atomic<uint64_t> topologyMisses_{0};
   int64_t maxRefinedVertices_;
   std::atomic<uint64_t> hits_{0};
   std::atomic<uint64_t> misses_{0};

@@ -2,13 +2,16 @@
 Subdivision modifier goes to a real tessera-server through the add-on as a user enables it, comes
 back as a new object beside it (triangles as the server counted them, UVs, custom normals, sharp
 creases, the cage's transform), a failing request leaves that object as it was and reports the
-server's message, pixel accuracy follows the scene camera, and the cage and the result are written (Y-up, as sent) for tessera-limit-check.
+server's message, pixel accuracy follows the scene camera, an edit that moves vertices takes the
+server's topology-reuse path (its /metrics), and the edited cage and the result are written (Y-up,
+as sent) for tessera-limit-check.
 Arguments after "--": OUT_DIR SERVER_BINARY."""
 import os
 import subprocess
 import sys
 import tempfile
 import time
+import urllib.request
 from pathlib import Path
 
 import addon_utils
@@ -25,13 +28,24 @@ def start_server():
     scratch = tempfile.mkdtemp()
     ready = Path(scratch) / "ready"
     process = subprocess.Popen([server_binary, "--listen", "127.0.0.1:0", "--store", f"sqlite:{scratch}/tessera.db",
-                                "--metrics-listen", "off", "--ready-file", str(ready), "--log-level", "warn"])
+                                "--metrics-listen", "127.0.0.1:0", "--ready-file", str(ready), "--log-level", "warn"])
     for _ in range(400):
-        if ready.exists() and "grpc=" in ready.read_text():
+        if ready.exists() and "metrics=" in ready.read_text():
             break
         assert process.poll() is None, f"tessera-server exited with {process.returncode}"
         time.sleep(0.05)
-    return process, next(line[5:] for line in ready.read_text().splitlines() if line.startswith("grpc="))
+    lines = ready.read_text().splitlines()
+    return process, next(line[5:] for line in lines if line.startswith("grpc=")), \
+        next(line[8:] for line in lines if line.startswith("metrics="))
+
+
+def metric(metrics_address, name):
+    """A counter from the server's /metrics."""
+    with urllib.request.urlopen(f"http://{metrics_address}/metrics", timeout=10) as response:
+        for line in response.read().decode().splitlines():
+            if line.startswith(name + " "):
+                return float(line.split()[1])
+    raise AssertionError(f"/metrics has no {name}")
 
 
 def creased_cube():
@@ -71,7 +85,7 @@ def write_obj(path: Path, positions, faces, uvs, corner_uvs, creases=(), corners
 
 
 def main():
-    process, address = start_server()
+    process, address, metrics_address = start_server()
     try:
         bpy.ops.wm.read_factory_settings(use_empty=True)
         addon_utils.enable("tessera_subdiv", default_set=True)
@@ -124,6 +138,22 @@ def main():
         assert counts[0] > 4 * counts[1] > 0, counts
         cube.tessera.mode, cube.tessera.tolerance = "RELATIVE", TOLERANCE
         assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
+
+        # An edit that moves vertices (a corner pulled out): new content, the same topology, which
+        # the server reuses (docs/DECISIONS.md "Edits reuse topology") and no new topology built.
+        hits = metric(metrics_address, "tessera_topology_cache_hits_total")
+        built = metric(metrics_address, "tessera_topology_cache_misses_total")
+        edit = bmesh.new()
+        edit.from_mesh(cube.data)
+        corner = max(edit.verts, key=lambda v: v.co.x + v.co.y + v.co.z)
+        corner.co += Vector((0.3, 0.2, 0.4))
+        edit.to_mesh(cube.data)
+        edit.free()
+        cage = read_cage(cube)
+        assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
+        assert metric(metrics_address, "tessera_topology_cache_hits_total") == hits + 1
+        assert metric(metrics_address, "tessera_topology_cache_misses_total") == built
+        # The result is measured below against OpenSubdiv's limit surface of this edited cage.
         mesh = bpy.data.objects["Cage_tessera"].data
 
         # The cage as sent and the result in the same (Y-up) frame, for tessera-limit-check.

@@ -2,7 +2,7 @@
 // each key once at a time. In process, with real preprocessing and tokens the tests hold: the same
 // content in another mesh is a hit; concurrent cold gets build once, charging only the builder's
 // memory; a cancelled builder leaves the build to a waiter; a waiter whose call is cancelled
-// stops at once; the mesh's own failure reaches every waiter. Over the network, on the real
+// stops at once; the mesh's own failure reaches every waiter; an edit reuses its topology. Over the network, on the real
 // server: one content under two ids is decoded and preprocessed once and tessellates to the same
 // GLB, and concurrent cold tessellations of one mesh preprocess it once (tessera_patch_cache_*
 // and tessera_cache_bytes metrics).
@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstring>
 #include <future>
 #include <mutex>
 #include <stdexcept>
@@ -23,6 +24,7 @@
 #include "core/base/sha256.h"
 #include "core/mesh/control_mesh.h"
 #include "core/mesh/mesh_codec.h"
+#include "core/pipeline/preprocessing.h"
 #include "tests/server/gate.h"
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
@@ -94,6 +96,34 @@ TEST(PatchSetCache, TheSameContentInAnotherMeshIsPreprocessedOnce) {
 
   // The content's hash is the whole key: a call without it would share one entry for all.
   EXPECT_THROW(cache.get(other, "", {}, nullptr), std::invalid_argument);
+}
+
+// An edit (the same topology, vertices moved) is new content, preprocessed from its positions
+// through the first mesh's topology: the same pieces as from scratch, and no topology built again.
+// Another topology builds its own.
+TEST(PatchSetCache, AnEditReusesItsTopologyAndMakesThePatchSetFromScratch) {
+  PatchSetCache cache(kBudget, kNoLimit);
+  const ControlMesh first = cube();
+  ControlMesh edit = cube();
+  edit.positions[6] = {1.3f, 1.2f, -0.1f};
+  ASSERT_NE(contentSha256(first), contentSha256(edit));
+  cache.get(first, contentSha256(first), {}, nullptr);
+  auto reused = cache.get(edit, contentSha256(edit), {}, nullptr);
+  EXPECT_EQ(cache.stats().misses, 2u);
+  EXPECT_EQ(cache.topologyStats().misses, 1u);
+  EXPECT_EQ(cache.topologyStats().hits, 1u);
+  EXPECT_GT(cache.topologyStats().bytes, 0u);
+  const PatchSet scratch = buildPatchSet(edit);
+  ASSERT_EQ(reused->regular.bspline.size(), scratch.regular.bspline.size());
+  EXPECT_EQ(std::memcmp(reused->regular.bspline.data(), scratch.regular.bspline.data(),
+                        scratch.regular.bspline.size() * sizeof(ControlNet)),
+            0);
+  EXPECT_EQ(reused->rings.points, scratch.rings.points);
+
+  ControlMesh creased = cube();
+  creased.creases.push_back({0, 1, 2.0f});
+  cache.get(creased, contentSha256(creased), {}, nullptr);
+  EXPECT_EQ(cache.topologyStats().misses, 2u);
 }
 
 // A patch set is built for the finest tolerance asked so far (its EV chains' depth): a coarser
