@@ -24,7 +24,8 @@
 // Each job is timed alone (manual time): an edit's new positions are the user's, made before the
 // clock starts. Counters: peak_mib, the process's resident high-water mark above its size before
 // the benchmark made anything but its input, over setup and every iteration (bench/peak_memory.h);
-// kept_mib, what setup keeps resident between iterations; triangles; the stages' mean times
+// kept_mib, what setup keeps resident between iterations (and for the edit topology_charged_mib,
+// what the server's cache charges for the kept topology); triangles; the stages' mean times
 // (Tessera: preprocess_ms, of it topology_ms up to the end of the topology — validation, sheets,
 // Far's refinement and the pieces' layout; nothing on the edit path,
 // tessellate_ms, glb_ms, free_ms; Bfr: setup_ms for the refiner, the
@@ -68,6 +69,8 @@ class TopologyReuse {
   PatchSet patchSet(const ControlMesh& moved, const PreprocessingOptions& options) const {
     return buildPatchSet(moved, *topology_, options);
   }
+  // What the server's patch-set cache charges for it (MeshTopology::bytes), beside kept_mib.
+  double chargedMiB() const { return double(topology_->bytes()) / (1 << 20); }
 
  private:
   std::shared_ptr<const MeshTopology> topology_;
@@ -242,6 +245,7 @@ void editTessera(benchmark::State& state, const std::string& name, double eps) {
   };
   timeJobs(state, memory, nextFrame, [&] { tesseraGlb(moved, name, options, reusing, stages); });
   reportMemory(state, memory, kept);
+  state.counters["topology_charged_mib"] = reuse.chargedMiB();
   reportTessera(state, stages);
 }
 

@@ -320,9 +320,10 @@ int64_t PatchTopology::refinedVertices() const { return refiner_->GetNumVertices
 
 size_t PatchTopology::bytes() const {
   // Far's levels: per refined vertex its faces, edges and tags, per face and edge their vertices
-  // and neighbours; ~200 bytes a refined vertex in all (the rook's 985K vertices: ~200 MB of
-  // Far's topology at the peak of its preprocessing, bench/COLD-RESULTS.md).
-  constexpr size_t kFarBytesPerVertex = 200;
+  // and neighbours, and the refinement's parent and child maps: ~320 bytes a refined vertex,
+  // fitted so that the whole is what a kept topology holds resident (BM_Edit_Tessera's kept_mib
+  // beside topology_charged_mib, bench/COLD-RESULTS.md).
+  constexpr size_t kFarBytesPerVertex = 320;
   auto bytesOf = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   size_t rings = rings_.capacity() * sizeof(RingPiece);
   for (const RingPiece& ring : rings_) {
