@@ -125,7 +125,7 @@ void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repositor
   registry.sampled("tessera_patch_cache_misses_total",
                    "Preprocessings the patch-set cache started (finished or not).", "counter",
                    [&] { return double(patches.stats().misses); });
-  registry.sampled("tessera_patch_cache_bytes", "Bytes of preprocessed patch sets in the cache.",
+  registry.sampled("tessera_patch_cache_bytes", "Bytes of preprocessed patch sets and mesh topologies in the cache.",
                    "gauge", [&] { return double(patches.stats().bytes); });
   registry.sampled("tessera_topology_cache_hits_total",
                    "Preprocessings that reused the topology of a mesh with the same faces, tags and rules "
@@ -133,8 +133,6 @@ void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repositor
                    "counter", [&] { return double(patches.topologyStats().hits); });
   registry.sampled("tessera_topology_cache_misses_total", "Topologies preprocessing built (OpenSubdiv's refinement and the pieces' layout).",
                    "counter", [&] { return double(patches.topologyStats().misses); });
-  registry.sampled("tessera_topology_cache_bytes", "Bytes of mesh topologies in the patch-set cache.", "gauge",
-                   [&] { return double(patches.topologyStats().bytes); });
   registry.sampled("tessera_queue_depth", "Heavy jobs waiting for admission.", "gauge",
                    [&] { return double(admission.queued()); });
   registry.sampled("tessera_jobs_running", "Heavy jobs admitted and running.", "gauge",

@@ -63,13 +63,13 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
     validateControlMesh(mesh);
     std::shared_ptr<const MeshTopology> topology = topologyOf(mesh, cancel, memory, options);
     auto patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, *topology, options));
-    cache_.insert(keyAt(meshSha256, floor), patches, bytesOf(*patches));
+    cache_.insert(keyAt(meshSha256, floor), std::make_shared<const Entry>(Entry{patches, nullptr}), bytesOf(*patches));
     return patches;
   };
   // Any chain floor at or below this request's serves it, the finest (kChainFloor) last.
   auto cached = [&]() -> std::shared_ptr<const PatchSet> {
     for (double at = floor; at >= kChainFloor * (1 - 1e-9); at /= 10) {
-      if (auto found = cache_.find(keyAt(meshSha256, at))) return found;
+      if (auto found = cache_.find(keyAt(meshSha256, at))) return found->patches;
     }
     return nullptr;
   };
@@ -83,23 +83,26 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
 std::shared_ptr<const MeshTopology> PatchSetCache::topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
                                                               MemoryReservation* memory,
                                                               const PreprocessingOptions& options) {
-  const std::string key = topologySha256(mesh);
+  const std::string key = "topology:" + topologySha256(mesh);
   bool built = false;
   auto build = [&] {
     built = true;
     topologyMisses_.fetch_add(1);
     auto topology = buildMeshTopology(mesh, options);
-    topologies_.insert(key, topology, topology->bytes());
+    cache_.insert(key, std::make_shared<const Entry>(Entry{nullptr, topology}), topology->bytes());
     return topology;
   };
-  auto cached = [&] { return topologies_.find(key); };
+  auto cached = [&]() -> std::shared_ptr<const MeshTopology> {
+    const std::shared_ptr<const Entry> found = cache_.find(key);
+    return found ? found->topology : nullptr;
+  };
   std::shared_ptr<const MeshTopology> topology = topologyBuilds_.get(key, cancel, memory, cached, build);
   if (!built) topologyHits_.fetch_add(1);
   return topology;
 }
 
 CacheStats PatchSetCache::topologyStats() const {
-  CacheStats stats = topologies_.stats();
+  CacheStats stats;
   stats.hits = topologyHits_.load();
   stats.misses = topologyMisses_.load();
   return stats;

@@ -13,8 +13,10 @@
 // A patch set's topology (core's MeshTopology: Far's refinement, the pieces' layout, the seams) is
 // cached beside it, keyed by core's topologySha256: a mesh with the same faces, tags, rules and UV
 // topology and moved vertices (a modelling tool's edited cage, a frame of an animated one) is
-// preprocessed from its positions alone (docs/DECISIONS.md "Edits reuse topology"). Topologies
-// take a quarter of the byte budget, patch sets the rest.
+// preprocessed from its positions alone (docs/DECISIONS.md "Edits reuse topology"). Both share
+// the one byte budget, least recently used out first: a modelling tool's edit loop keeps its
+// topology, which every edit uses, and its latest patch set, while the patch sets of earlier
+// edits fall out.
 #pragma once
 
 #include <atomic>
@@ -36,7 +38,7 @@ class PatchSetCache {
  public:
   // maxRefinedVertices: core's PreprocessingOptions limit, applied to every mesh preprocessed.
   PatchSetCache(size_t byteBudget, int64_t maxRefinedVertices)
-      : cache_(byteBudget - byteBudget / 4), topologies_(byteBudget / 4), maxRefinedVertices_(maxRefinedVertices) {}
+      : cache_(byteBudget), maxRefinedVertices_(maxRefinedVertices) {}
 
   // The patch set of `mesh`, whose canonical encoding has SHA-256 `meshSha256` (hex, as
   // MeshMetadata and tessera.v1.Mesh give it): from the cache, from the build another call has
@@ -56,18 +58,24 @@ class PatchSetCache {
                                       double finestRelativeTolerance = 0);
 
   // hits: calls that found the patch set built (in the cache, or by the build they waited for);
-  // misses: builds started (each preprocessing, finished or not).
+  // misses: builds started (each preprocessing, finished or not); bytes and entries: patch sets
+  // and topologies together.
   CacheStats stats() const;
-  // hits: preprocessings that reused a cached topology; misses: topologies built.
+  // hits: preprocessings that reused a cached topology; misses: topologies built (only these two).
   CacheStats topologyStats() const;
 
  private:
   std::shared_ptr<const MeshTopology> topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
                                                  MemoryReservation* memory, const PreprocessingOptions& options);
 
-  LruCache<std::string, PatchSet> cache_;
+  // A cache entry: a patch set (keyed by content and chain floor) or a topology (by topology).
+  struct Entry {
+    std::shared_ptr<const PatchSet> patches;
+    std::shared_ptr<const MeshTopology> topology;
+  };
+
+  LruCache<std::string, Entry> cache_;
   SingleFlight<std::string, PatchSet, TesseraError> builds_;
-  LruCache<std::string, MeshTopology> topologies_;
   SingleFlight<std::string, MeshTopology, TesseraError> topologyBuilds_;
   std::atomic<uint64_t> topologyHits_{0};
   std::atomic<uint64_t> topologyMisses_{0};
