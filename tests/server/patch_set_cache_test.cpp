@@ -127,7 +127,7 @@ TEST(PatchSetCache, AnEditReusesItsTopologyAndMakesThePatchSetFromScratch) {
 }
 
 // A patch set is built for the finest tolerance asked so far (its EV chains' depth): a coarser
-// request is served by a finer one's, a finer request builds its own.
+// request is served by a finer one's, a finer request builds its own from the same topology.
 TEST(PatchSetCache, AFinerRequestsPatchSetServesACoarserOne) {
   PatchSetCache cache(kBudget, kNoLimit);
   const ControlMesh mesh = cube();
@@ -143,6 +143,9 @@ TEST(PatchSetCache, AFinerRequestsPatchSetServesACoarserOne) {
   // 1e-4 is deep enough for any request (kChainFloor): what a request of unknown ε gets.
   EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 0), fine);
   EXPECT_EQ(cache.stats().misses, 2u);
+  // The finer build refined nothing again: it took the coarse one's topology.
+  EXPECT_EQ(cache.topologyStats().misses, 1u);
+  EXPECT_EQ(cache.topologyStats().hits, 1u);
 }
 
 TEST(PatchSetCache, ConcurrentColdGetsPreprocessOnceChargingTheBuilderOnly) {
