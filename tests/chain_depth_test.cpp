@@ -72,5 +72,20 @@ TEST(ChainDepth, ARequestFinerThanItsTreeIsRefused) {
   EXPECT_DOUBLE_EQ(finestRelativeTolerance(mesh, relativeOptions(1e-3)), 1e-3);
 }
 
+// Preprocessing is told ε before an encoding's reserve is known (it follows the patch set's box,
+// core/pipeline/glb_output.h), and the reserve is planned away from ε: a tree for ε, on a power of
+// ten, serves ε less a reserve (the quantized encoding takes at most an eighth of it).
+TEST(ChainDepth, AToleranceLessItsEncodingsReserveFindsItsTreeDeepEnough) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_pole8.obj");
+  for (double relative : {1e-2, 1e-3}) {
+    const PatchSet patches = preprocessedFor(mesh, relative);
+    TessellationOptions options = relativeOptions(relative);
+    Vec3 lo, hi;
+    mesh.bounds(lo, hi);
+    options.encodingReserve = 0.125 * relative * length(Vec3d(hi) - Vec3d(lo));
+    EXPECT_NO_THROW(tessellate(patches, mesh, options)) << relative;
+  }
+}
+
 }  // namespace
 }  // namespace tessera

@@ -26,13 +26,13 @@ namespace tessera {
 // The finest chain floor, a fraction of the bounding-box diagonal: a tree built with it serves
 // every tolerance the server admits.
 inline constexpr double kChainFloor = 1e-7;
-// A request at relative tolerance ε needs EV chains whose deepest stand-ins are within
-// kChainServes·ε: below that the planner stops in them with nearly the same tiles (measured in
-// docs/ADAPTIVE.md §1a). Trees are built ten times deeper than that (kChainBuilt), on powers of
-// ten, which made the same tiles wherever measured, and so that nearby tolerances and an
-// encoding's reserve share one.
-inline constexpr double kChainServes = 1e-2;
-inline constexpr double kChainBuilt = 1e-3;
+// Trees for a request at relative tolerance ε are built with EV chains whose deepest stand-ins
+// are within kChainBuilt·ε, rounded down to a power of ten: the planner stops in them with the
+// same tiles as in the deepest tree wherever measured (docs/ADAPTIVE.md §1a). A tree serves
+// planning tolerances down to its floor over kChainServes: ε less an encoding's reserve (at most
+// half of it), which is known only once the patch set is.
+inline constexpr double kChainServes = 2e-2;
+inline constexpr double kChainBuilt = 1e-2;
 
 inline constexpr uint32_t kNoNode = UINT32_MAX;
 
