@@ -64,16 +64,22 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
     cache_.insert(keyAt(meshSha256, floor), patches, bytesOf(*patches));
     return patches;
   };
-  // Any chain floor at or below this request's serves it, the finest (kChainFloor) last.
-  auto cached = [&]() -> std::shared_ptr<const PatchSet> {
-    for (double at = floor; at >= kChainFloor * (1 - 1e-9); at /= 10) {
-      if (auto found = cache_.find(keyAt(meshSha256, at))) return found;
-    }
-    return nullptr;
-  };
+  auto cached = [&] { return cachedFor(meshSha256, floor); };
   std::shared_ptr<const PatchSet> patches = builds_.get(keyAt(meshSha256, floor), cancel, memory, cached, build);
   if (!built) hits_.fetch_add(1);
   return patches;
+}
+
+std::shared_ptr<const PatchSet> PatchSetCache::cachedFor(const std::string& meshSha256, double floor) {
+  // Any chain floor at or below this request's serves it, the finest (kChainFloor) last.
+  for (double at = floor; at >= kChainFloor * (1 - 1e-9); at /= 10) {
+    if (auto found = cache_.find(keyAt(meshSha256, at))) return found;
+  }
+  return nullptr;
+}
+
+bool PatchSetCache::holds(const std::string& meshSha256, double finestRelativeTolerance) {
+  return cachedFor(meshSha256, chainFloorFor(finestRelativeTolerance)) != nullptr;
 }
 
 CacheStats PatchSetCache::stats() const {

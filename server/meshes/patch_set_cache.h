@@ -48,11 +48,18 @@ class PatchSetCache {
                                       const CancellationToken& cancel, MemoryReservation* memory,
                                       double finestRelativeTolerance = 0);
 
+  // Whether get() would find this content's patch set cached, for a request down to
+  // `finestRelativeTolerance` (no preprocessing): how the server tells a cheap job before it is
+  // admitted (server/tessellation/job_cost.h). Counts as a use of the entry, not as a hit.
+  bool holds(const std::string& meshSha256, double finestRelativeTolerance);
+
   // hits: calls that found the patch set built (in the cache, or by the build they waited for);
   // misses: builds started (each preprocessing, finished or not).
   CacheStats stats() const;
 
  private:
+  std::shared_ptr<const PatchSet> cachedFor(const std::string& meshSha256, double chainFloor);
+
   LruCache<std::string, PatchSet> cache_;
   SingleFlight<std::string, PatchSet, TesseraError> builds_;
   int64_t maxRefinedVertices_;
