@@ -199,7 +199,8 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->capture_default_str(),
           "TESSERA_DRAIN_DELAY");
   withEnv(app.add_option("--shutdown-grace", c.shutdownGraceSeconds,
-                         "Seconds running calls get to finish on SIGTERM")
+                         "Seconds running calls get to finish on SIGTERM, after the drain delay; then they are "
+                         "cancelled and their jobs stop within a second")
               ->capture_default_str(),
           "TESSERA_SHUTDOWN_GRACE");
   addLimitOptions(app, c);

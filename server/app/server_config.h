@@ -45,9 +45,11 @@ struct ServerConfig {
   // The light lane (admission_control.h): its slots (0: maxConcurrentJobs; negative: none) and
   // what makes a tessellation light (job_cost.h).
   int lightJobs = 0;
-  int64_t lightJobTriangles = 250'000;
+  int64_t lightJobTriangles = 100'000;
   double drainDelaySeconds = 1.0;  // NOT_SERVING before new calls are refused (shutDown)
-  double shutdownGraceSeconds = 5.0;
+  // Then running calls are cancelled, and each job stops within a second (its checkpoints), so
+  // the process is gone within drainDelaySeconds + 5 s by default.
+  double shutdownGraceSeconds = 4.0;
   int maxOpenStreams = 256;              // streaming calls open at once (server/calls/stream_watch.h)
   double streamIdleSeconds = 30.0;       // a stream's client may take this long to send or read
   double sessionIdleSeconds = 600.0;     // a render session's client, between cameras
