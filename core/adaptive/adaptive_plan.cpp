@@ -132,6 +132,10 @@ class Planner {
   mutable bool rootInTriangle_ = false;
   mutable bool conservative_ = false;
   mutable bool merging_ = true;
+  // Nodes planned since the last checkpoint: one root at a fine tolerance is millions of nodes,
+  // seconds of work that a cancelled request must not finish (the checkpoint every kNodesPerCheckpoint).
+  mutable uint32_t sinceCheckpoint_ = 0;
+  static constexpr uint32_t kNodesPerCheckpoint = 4096;
 };
 
 void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
@@ -442,6 +446,10 @@ Tile settledTile(const Tile& pending) {
 // Quadrants make at least two triangles each, so a grid of fewer than kSplitSaving + 8 cannot
 // be beaten and is emitted without looking ahead.
 void Planner::plan(const Candidate& c, const Rates& grid, std::vector<Tile>& out) const {
+  if (++sinceCheckpoint_ == kNodesPerCheckpoint) {
+    sinceCheckpoint_ = 0;
+    if (options_.checkpoint) options_.checkpoint();
+  }
   if ((grid.feasible() && grid.triangles() - 8 < kSplitSaving) || !splittable(c)) {
     if (grid.feasible()) return emit(c, grid, out);
     // Nothing finer exists (the deepest EV quadrant below kChainFloor): the finest grid, its

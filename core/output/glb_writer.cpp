@@ -156,6 +156,9 @@ Stored storePlain(const TriangleMesh& mesh) {
 }
 
 Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
+  const auto checkpoint = [&options] {
+    if (options.checkpoint) options.checkpoint();
+  };
   const size_t vertexCount = mesh.positions.size();
   const bool compress = options.encoding == GlbEncoding::kMeshopt;
   std::vector<uint32_t> reordered;  // meshopt: the triangles in cache order, vertices renumbered
@@ -166,9 +169,11 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   if (compress && !mesh.indices.empty()) {
     reordered.resize(mesh.indices.size());
     meshopt_optimizeVertexCache(reordered.data(), mesh.indices.data(), reordered.size(), vertexCount);
+    checkpoint();
     std::vector<uint32_t> remap(vertexCount);
     stored = meshopt_optimizeVertexFetchRemap(remap.data(), reordered.data(), reordered.size(), vertexCount);
     meshopt_remapIndexBuffer(reordered.data(), reordered.data(), reordered.size(), remap.data());
+    checkpoint();
     order.assign(stored, 0);
     for (uint32_t v = 0; v < vertexCount; ++v) {
       if (remap[v] != ~0u) order[remap[v]] = v;
@@ -178,6 +183,7 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   std::vector<QuantizedNormal> normals(stored);
   for (size_t k = 0; k < stored; ++k) normals[k] = quantizeNormal(mesh.normals[order[k]]);
   result.normalType = kByte;
+  checkpoint();
   if (options.positions) {
     std::vector<QuantizedPosition> positions(stored);
     std::array<int, 3> lo{32767, 32767, 32767}, hi{-32767, -32767, -32767};
@@ -205,9 +211,13 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   }
   if (compress) {
     useSpecifiedCodecVersions();
+    checkpoint();
     compressAttributes(result.views[0]);
+    checkpoint();
     compressAttributes(result.views[1]);
+    checkpoint();
     compressTriangles(result.views[2], indices, stored);
+    checkpoint();
     if (result.views.size() > 3) compressAttributes(result.views[3]);
   }
   return result;
@@ -384,6 +394,7 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& option
   if (mesh.normals.size() != mesh.positions.size()) throwInvalid("could not write the GLB: normals and positions differ in count");
   if (!mesh.uvs.empty() && mesh.uvs.size() != 2 * mesh.positions.size()) throwInvalid("could not write the GLB: UVs and positions differ in count");
   Stored stored = options.encoding == GlbEncoding::kFloat ? storePlain(mesh) : storeQuantized(mesh, options);
+  if (options.checkpoint) options.checkpoint();
   stored.origin = mesh.origin;
   size_t binBytes = 0;
   for (const View& view : stored.views) binBytes += padded(view.compressed.empty() ? view.size : view.compressed.size());

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,6 +38,9 @@ struct GlbOptions {
   GlbEncoding encoding = GlbEncoding::kFloat;
   // kQuantized, kMeshopt: the positions' grid; unset keeps float positions (int8 normals still).
   std::optional<PositionQuantization> positions = {};
+  // Called between the encoding's steps (each a pass over the mesh: meshoptimizer's orderings, the
+  // attributes, each compression), so a caller can abandon a large file by throwing from it.
+  std::function<void()> checkpoint = {};
 };
 
 // Throws TesseraError (kInvalidInput) for a mesh it cannot write, kLimitExceeded past 4 GiB.

@@ -71,7 +71,8 @@ void repeat(std::vector<T>& values, size_t per, const std::vector<uint32_t>& sou
 
 }  // namespace
 
-void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vector<UvQuery>& corners, TriangleMesh& mesh) {
+void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vector<UvQuery>& corners, TriangleMesh& mesh,
+               const std::function<void()>& checkpoint) {
   if (corners.size() != mesh.indices.size()) throw std::logic_error("attachUvs: one parameter per triangle corner is needed");
   const FaceCorners faces(control);
   // Each output vertex (a vertex, or its seam copy) with its key, chained per vertex; the UV is
@@ -83,6 +84,7 @@ void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vecto
   std::vector<uint8_t> used(vertices, 0);
   std::vector<UvQuery> queries(vertices);
   for (size_t c = 0; c < corners.size(); ++c) {
+    if (checkpoint && (c & 0xffff) == 0) checkpoint();
     const uint32_t w = mesh.indices[c];
     const UvQuery& q = corners[c];
     const CornerKey k = keyOf(faces, q.face, q.subFace, q.u, q.v);
@@ -101,6 +103,7 @@ void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vecto
     mesh.indices[c] = target;
   }
   const std::vector<std::array<float, 2>> values = uvs.evaluate(queries);
+  if (checkpoint) checkpoint();
   mesh.uvs.resize(2 * values.size());
   for (size_t v = 0; v < values.size(); ++v) mesh.uvs[2 * v] = values[v][0], mesh.uvs[2 * v + 1] = values[v][1];
   // Seam copies repeat their vertex bit for bit (and point back to it, as crease copies do).

@@ -3,6 +3,8 @@
 // stay bit-identical on both sides and the mesh stays watertight by position.
 #pragma once
 
+#include <functional>
+
 #include <vector>
 
 #include "core/mesh/control_mesh.h"
@@ -14,6 +16,9 @@ namespace tessera {
 // `corners`: where each triangle corner lies (base face, sub-face, (u, v) in Bfr's
 // parameterization). Fills `mesh.uvs` (u, v per vertex) and appends the seam copies of vertices
 // (position, normal and any per-vertex records repeated; vertexPoint names the vertex copied).
-void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vector<UvQuery>& corners, TriangleMesh& mesh);
+// `checkpoint` (may be empty) is called between its passes and every 64K corners, and may throw
+// to abandon the work.
+void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vector<UvQuery>& corners, TriangleMesh& mesh,
+               const std::function<void()>& checkpoint = {});
 
 }  // namespace tessera

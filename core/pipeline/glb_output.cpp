@@ -46,6 +46,7 @@ GlbOptions glbOptionsFor(const GlbRequest& request, const TessellationOptions& o
   GlbOptions glb;
   glb.encoding = request.encoding;
   glb.positions = positions;
+  glb.checkpoint = options.checkpoint;
   GlbDescription& d = glb.description;
   d.sourceName = request.sourceName;
   d.sourceSha256 = request.sourceSha256;

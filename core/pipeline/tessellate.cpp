@@ -106,7 +106,8 @@ TessellationResult tessellate(const PatchSet& patches, const ControlMesh& mesh,
   TessellationResult result = tessellateSurface(patches, mesh, relative);
   result.mesh.origin = mesh.origin;
   if (!patches.uvs) return result;
-  attachUvs(mesh, *patches.uvs, cornerParameters(result), result.mesh);
+  if (options.checkpoint) options.checkpoint();
+  attachUvs(mesh, *patches.uvs, cornerParameters(result), result.mesh, options.checkpoint);
   if (!options.recordParameters) forgetParameters(result.mesh);
   result.summary.vertices = int64_t(result.mesh.positions.size());
   return result;

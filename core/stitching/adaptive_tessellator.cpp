@@ -167,42 +167,54 @@ void faceTriangleParameters(const Stitching& stitching, size_t t, const uint32_t
   }
 }
 
-// Each triangle's root and its corners' (u, v) there: a corner is the tile's inner grid point
-// or one of its sides' points (before fold copies are made).
+// Triangle t's root and its corners' (u, v) there: a corner is the tile's inner grid point or
+// one of its sides' points (before fold copies are made).
+void recordParametersOf(size_t t, const AdaptiveSurface& surface, const AdaptivePlan& plan, const Stitching& stitching,
+                        const std::vector<uint32_t>& tileRoot, TriangleMesh& mesh) {
+  const uint32_t tileIndex = mesh.trianglePiece[t];
+  const Tile& tile = plan.tiles[tileIndex];
+  const SurfaceRoot& root = surface.tree.roots[tileRoot[tileIndex]];
+  mesh.triangleFace[t] = root.baseFace, mesh.triangleSubFace[t] = root.subFace;
+  if (tile.faceTriangle) return faceTriangleParameters(stitching, tileIndex, &mesh.indices[3 * t], &mesh.triangleST[6 * t]);
+  const uint32_t gridFirst = stitching.gridFirst[tileIndex];
+  const uint32_t gridCount = uint32_t((tile.ru - 1) * (tile.rv - 1));
+  for (int k = 0; k < 3; ++k) {
+    const uint32_t v = mesh.indices[3 * t + k];
+    double x = -1, y = -1;
+    if (v >= gridFirst && v < gridFirst + gridCount) {
+      const uint32_t g = v - gridFirst;
+      x = double(g % (tile.ru - 1) + 1) / tile.ru, y = double(g / (tile.ru - 1) + 1) / tile.rv;
+    }
+    for (int side = 0; side < 4 && x < 0; ++side) {
+      size_t count;
+      const SidePoint* points = stitching.side(tileIndex, side, count);
+      for (size_t p = 0; p < count; ++p) {
+        if (points[p].vertex != v) continue;
+        const double at = points[p].at;
+        x = side == 0 || side == 2 ? at : (side == 1 ? 1 : 0);
+        y = side == 1 || side == 3 ? at : (side == 2 ? 1 : 0);
+        break;
+      }
+    }
+    mesh.triangleST[6 * t + 2 * k] = (double(tile.indexAlong(0)) + x) * tile.width();
+    mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.indexAlong(1)) + y) * tile.height();
+  }
+}
+
+// Every triangle's, in chunks of 64K that each reach the checkpoint first (millions of triangles
+// are seconds of work that a cancelled request must not finish).
 void recordTriangleParameters(const AdaptiveSurface& surface, const AdaptivePlan& plan, const Stitching& stitching,
-                              const std::vector<uint32_t>& tileRoot, TriangleMesh& mesh) {
+                              const std::vector<uint32_t>& tileRoot, TriangleMesh& mesh,
+                              const std::function<void()>& checkpoint) {
   const size_t triangles = mesh.triangleCount();
   mesh.triangleST.resize(6 * triangles);
   mesh.triangleFace.resize(triangles);
   mesh.triangleSubFace.resize(triangles);
-  tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
-    const uint32_t tileIndex = mesh.trianglePiece[t];
-    const Tile& tile = plan.tiles[tileIndex];
-    const SurfaceRoot& root = surface.tree.roots[tileRoot[tileIndex]];
-    mesh.triangleFace[t] = root.baseFace, mesh.triangleSubFace[t] = root.subFace;
-    if (tile.faceTriangle) return faceTriangleParameters(stitching, tileIndex, &mesh.indices[3 * t], &mesh.triangleST[6 * t]);
-    const uint32_t gridFirst = stitching.gridFirst[tileIndex];
-    const uint32_t gridCount = uint32_t((tile.ru - 1) * (tile.rv - 1));
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t v = mesh.indices[3 * t + k];
-      double x = -1, y = -1;
-      if (v >= gridFirst && v < gridFirst + gridCount) {
-        const uint32_t g = v - gridFirst;
-        x = double(g % (tile.ru - 1) + 1) / tile.ru, y = double(g / (tile.ru - 1) + 1) / tile.rv;
-      }
-      for (int side = 0; side < 4 && x < 0; ++side) {
-        size_t count;
-        const SidePoint* points = stitching.side(tileIndex, side, count);
-        for (size_t p = 0; p < count; ++p) {
-          if (points[p].vertex != v) continue;
-          const double at = points[p].at;
-          x = side == 0 || side == 2 ? at : (side == 1 ? 1 : 0);
-          y = side == 1 || side == 3 ? at : (side == 2 ? 1 : 0);
-          break;
-        }
-      }
-      mesh.triangleST[6 * t + 2 * k] = (double(tile.indexAlong(0)) + x) * tile.width();
-      mesh.triangleST[6 * t + 2 * k + 1] = (double(tile.indexAlong(1)) + y) * tile.height();
+  constexpr size_t kChunk = size_t(1) << 16;
+  tbb::parallel_for(size_t(0), (triangles + kChunk - 1) / kChunk, [&](size_t chunk) {
+    if (checkpoint) checkpoint();
+    for (size_t t = chunk * kChunk; t < std::min(triangles, (chunk + 1) * kChunk); ++t) {
+      recordParametersOf(t, surface, plan, stitching, tileRoot, mesh);
     }
   });
 }
@@ -390,7 +402,8 @@ TriangleMesh tessellateAdaptive(const PatchSet& patches, const AdaptiveSurface& 
   TriangleMesh mesh;
   std::vector<uint32_t> away =
       evaluateAndTriangulate(patches, surface, plan, stitching, tileRoot, recordParameters, mesh, evaluation, checkpoint);
-  if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh);
+  if (checkpoint) checkpoint();
+  if (recordParameters) recordTriangleParameters(surface, plan, stitching, tileRoot, mesh, checkpoint);
   splitFoldNormals(std::move(away), mesh);
   return mesh;
 }

@@ -133,10 +133,17 @@ void registerSampledMetrics(MetricsRegistry& registry, MeshRepository& repositor
                    "counter", [&] { return double(patches.topologyStats().hits); });
   registry.sampled("tessera_topology_cache_misses_total", "Topologies preprocessing built (OpenSubdiv's refinement and the pieces' layout).",
                    "counter", [&] { return double(patches.topologyStats().misses); });
-  registry.sampled("tessera_queue_depth", "Heavy jobs waiting for admission.", "gauge",
+  registry.sampled("tessera_patch_cache_evictions_total",
+                   "Patch sets and topologies the patch-set cache dropped to make room (a later request for one preprocesses again).",
+                   "counter", [&] { return double(patches.stats().evictions); });
+  registry.sampled("tessera_queue_depth", "Heavy jobs waiting for admission, in both lanes.", "gauge",
                    [&] { return double(admission.queued()); });
-  registry.sampled("tessera_jobs_running", "Heavy jobs admitted and running.", "gauge",
+  registry.sampled("tessera_jobs_running", "Heavy jobs admitted and running, in both lanes.", "gauge",
                    [&] { return double(admission.running()); });
+  registry.sampled("tessera_light_queue_depth", "Light jobs waiting for the light lane's slots.", "gauge",
+                   [&] { return double(admission.queued(AdmissionLane::kLight)); });
+  registry.sampled("tessera_light_jobs_running", "Light jobs running in the light lane.", "gauge",
+                   [&] { return double(admission.running(AdmissionLane::kLight)); });
   registry.sampled("tessera_memory_budget_bytes", "Memory the jobs together may reserve (--memory-budget less the caches).",
                    "gauge", [&] { return double(admission.memoryBudget()); });
   registry.sampled("tessera_memory_reserved_bytes", "Memory the running jobs have reserved.", "gauge",
@@ -275,7 +282,8 @@ int runServer(const ServerConfig& config) {
                              fmt::format("--memory-budget {} less the caches' {} and the server's own {}",
                                          formatBytes(config.memoryBudget),
                                          formatBytes(config.cacheBytes + config.patchCacheBytes),
-                                         formatBytes(kServerBaseBytes)));
+                                         formatBytes(kServerBaseBytes)),
+                             config.lightJobs);
   StreamWatch streams(StreamWatch::Limits{
       config.maxOpenStreams,
       std::chrono::duration_cast<StreamWatch::Clock::duration>(std::chrono::duration<double>(config.streamIdleSeconds)),
@@ -293,7 +301,7 @@ int runServer(const ServerConfig& config) {
 
   MeshServiceImpl meshService(repository, admission, streams, auth, config.upload, metrics);
   TessellationServiceImpl tessellationService(repository, admission, streams, *engine, auth,
-                                              config.tessellation, metrics);
+                                              config.tessellation, metrics, config.lightJobTriangles);
   RenderServiceImpl renderService(repository, admission, streams, *renderer, auth, config.tessellation,
                                   registry);
   ServerInfoServiceImpl infoService(describeServer(config, *engine, *renderer, store->kind()),

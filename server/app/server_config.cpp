@@ -93,6 +93,17 @@ void addLimitOptions(CLI::App& app, ServerConfig& c) {
                          "Heavy jobs waiting; more are refused (negative: 32 per running job, at most --max-open-streams)")
               ->capture_default_str()->group(group),
           "TESSERA_MAX_QUEUED_JOBS");
+  withEnv(app.add_option("--light-jobs", c.lightJobs,
+                         "Slots of the light lane: jobs known to be short (small uploads, tessellations of a "
+                         "preprocessed mesh with a small estimated output) that never queue behind long ones "
+                         "(0: as many as --max-concurrent-jobs; negative: no light lane)")
+              ->capture_default_str()->group(group),
+          "TESSERA_LIGHT_JOBS");
+  withEnv(app.add_option("--light-job-triangles", c.lightJobTriangles,
+                         "A tessellation of a preprocessed mesh is light when it is estimated to make at most "
+                         "this many triangles")
+              ->capture_default_str()->group(group),
+          "TESSERA_LIGHT_JOB_TRIANGLES");
   withEnv(app.add_option("--max-open-streams", c.maxOpenStreams,
                          "Streaming calls open at once; more are refused")
               ->capture_default_str()->group(group),
@@ -165,9 +176,9 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->capture_default_str(),
           "TESSERA_CACHE_BYTES");
   withEnv(app.add_option("--patch-cache-bytes", c.patchCacheBytes,
-                         "Memory for preprocessed patch sets, shared by tessellation and rendering")
-              ->transform(CLI::AsSizeValue(false))
-              ->capture_default_str(),
+                         "Memory for preprocessed patch sets, shared by tessellation and rendering "
+                         "(default: a quarter of --memory-budget)")
+              ->transform(CLI::AsSizeValue(false)),
           "TESSERA_PATCH_CACHE_BYTES");
   withEnv(app.add_option("--engine", c.engine,
                          "Where tessellation runs: cpu; cuda (the vertices on the GPU, the server "
@@ -188,7 +199,8 @@ void addServerOptions(CLI::App& app, ServerConfig& c) {
               ->capture_default_str(),
           "TESSERA_DRAIN_DELAY");
   withEnv(app.add_option("--shutdown-grace", c.shutdownGraceSeconds,
-                         "Seconds running calls get to finish on SIGTERM")
+                         "Seconds running calls get to finish on SIGTERM, after the drain delay; then they are "
+                         "cancelled and their jobs stop within a second")
               ->capture_default_str(),
           "TESSERA_SHUTDOWN_GRACE");
   addLimitOptions(app, c);
@@ -214,6 +226,8 @@ void finalizeServerConfig(ServerConfig& c) {
   if (c.maxQueuedJobs < 0) c.maxQueuedJobs = std::min(32 * c.maxConcurrentJobs, c.maxOpenStreams);
   requirePositive(c.maxConcurrentJobs, "--max-concurrent-jobs");
   requirePositive(c.maxOpenStreams, "--max-open-streams");
+  if (c.lightJobs == 0) c.lightJobs = c.maxConcurrentJobs;
+  if (c.lightJobTriangles < 0) throw std::invalid_argument("--light-job-triangles must not be negative");
   if (!(c.storeTimeoutSeconds > 0)) throw std::invalid_argument("--store-timeout must be positive");
   if (!(c.drainDelaySeconds >= 0 && c.drainDelaySeconds <= 600)) {
     throw std::invalid_argument("--drain-delay must be between 0 and 600 seconds");
@@ -236,10 +250,10 @@ void finalizeServerConfig(ServerConfig& c) {
     throw std::invalid_argument("--min-pixel-accuracy must be positive");
   }
   if (c.cacheBytes < 0) throw std::invalid_argument("--cache-bytes must not be negative");
-  if (c.patchCacheBytes < 0) throw std::invalid_argument("--patch-cache-bytes must not be negative");
   if (c.deviceCacheBytes < 0) throw std::invalid_argument("--device-cache-bytes must not be negative");
   if (c.memoryBudget < 0) throw std::invalid_argument("--memory-budget must not be negative");
   if (c.memoryBudget == 0) c.memoryBudget = machineMemoryBytes() / 4 * 3;
+  if (c.patchCacheBytes < 0) c.patchCacheBytes = c.memoryBudget / 4;
   c.jobMemoryBytes = c.memoryBudget - c.cacheBytes - c.patchCacheBytes - kServerBaseBytes;
   if (c.jobMemoryBytes < kServerBaseBytes) {
     throw std::invalid_argument(fmt::format(

@@ -31,7 +31,9 @@ struct ServerConfig {
   std::string logFormat = "text";  // or "json" (log_format.h)
   bool reflection = true;
   int64_t cacheBytes = 512LL << 20;       // decoded meshes
-  int64_t patchCacheBytes = 512LL << 20;  // preprocessed patch sets, shared by all engines
+  // Preprocessed patch sets, shared by all engines; negative: a quarter of memoryBudget, so that a
+  // larger machine keeps more meshes warm (six large characters' patch sets take ~800 MB).
+  int64_t patchCacheBytes = -1;
   std::string engine = "auto";            // "auto", "cpu" or "cuda" (server_app.cpp's makeEngine)
   int64_t deviceCacheBytes = 2LL << 30;   // GPU memory for the CUDA engine's surface trees
   // The whole server's memory (0: 3/4 of the machine's or the container's, machine_memory.h);
@@ -40,8 +42,14 @@ struct ServerConfig {
   int64_t jobMemoryBytes = 0;  // derived by finalizeServerConfig
   int maxConcurrentJobs = 0;  // 0: the number of hardware threads
   int maxQueuedJobs = -1;     // negative: min(32 x maxConcurrentJobs, maxOpenStreams)
+  // The light lane (admission_control.h): its slots (0: maxConcurrentJobs; negative: none) and
+  // what makes a tessellation light (job_cost.h).
+  int lightJobs = 0;
+  int64_t lightJobTriangles = 100'000;
   double drainDelaySeconds = 1.0;  // NOT_SERVING before new calls are refused (shutDown)
-  double shutdownGraceSeconds = 5.0;
+  // Then running calls are cancelled, and each job stops within a second (its checkpoints), so
+  // the process is gone within drainDelaySeconds + 5 s by default.
+  double shutdownGraceSeconds = 4.0;
   int maxOpenStreams = 256;              // streaming calls open at once (server/calls/stream_watch.h)
   double streamIdleSeconds = 30.0;       // a stream's client may take this long to send or read
   double sessionIdleSeconds = 600.0;     // a render session's client, between cameras

@@ -18,13 +18,15 @@ constexpr int64_t kMaxRetryAfterMs = 60'000;
 
 }  // namespace
 
-AdmissionControl::Slot::Slot(AdmissionControl* owner, const CancellationToken* cancel, int64_t bytes)
-    : owner_(owner), cancel_(cancel), bytes_(bytes), start_(std::chrono::steady_clock::now()) {}
+AdmissionControl::Slot::Slot(AdmissionControl* owner, const CancellationToken* cancel, int64_t bytes,
+                             AdmissionLane lane)
+    : owner_(owner), cancel_(cancel), bytes_(bytes), lane_(lane), start_(std::chrono::steady_clock::now()) {}
 
 AdmissionControl::Slot::Slot(Slot&& other) noexcept
     : owner_(std::exchange(other.owner_, nullptr)),
       cancel_(other.cancel_),
       bytes_(std::exchange(other.bytes_, 0)),
+      lane_(other.lane_),
       start_(other.start_) {}
 
 AdmissionControl::Slot::~Slot() {
@@ -47,16 +49,24 @@ void AdmissionControl::Slot::endWaitingForAnotherJob() {
   if (owner_) owner_->waitForAnotherJob(-1);
 }
 
-AdmissionControl::AdmissionControl(int maxRunning, int maxQueued, int64_t memoryBytes, std::string memoryNote)
-    : maxRunning_(std::max(maxRunning, 1)),
+AdmissionControl::AdmissionControl(int maxRunning, int maxQueued, int64_t memoryBytes, std::string memoryNote,
+                                   int maxLightRunning)
+    : lanes_{Lane(std::max(maxRunning, 1)), Lane(std::max(maxLightRunning > 0 ? maxLightRunning : maxRunning, 1))},
+      lightLane_(maxLightRunning >= 0),
       maxQueued_(std::max(maxQueued, 0)),
       memory_(std::max<int64_t>(memoryBytes, 0)),
       memoryNote_(std::move(memoryNote)) {}
 
-bool AdmissionControl::mayStartLocked(uint64_t ticket) const {
-  // Jobs already running that wait for more memory go first.
-  return running_ < maxRunning_ && growing_ == 0 && !waiting_.empty() && waiting_.front().ticket == ticket &&
-         reserved_ + waiting_.front().bytes <= memory_;
+bool AdmissionControl::mayStartLocked(uint64_t ticket, AdmissionLane which) const {
+  const Lane& l = lane(which);
+  return l.running < l.maxRunning && !growingAheadLocked(which) && !l.waiting.empty() &&
+         l.waiting.front().ticket == ticket && reserved_ + l.waiting.front().bytes <= memory_;
+}
+
+bool AdmissionControl::growingAheadLocked(AdmissionLane which) const {
+  // Main jobs already running that wait for more memory go before new main jobs (else a stream
+  // of new ones could starve them); a light job takes little and ends soon, so it goes on.
+  return which == AdmissionLane::kMain && growing_ > 0;
 }
 
 void AdmissionControl::requireFits(int64_t bytes, std::string_view what) const {
@@ -69,36 +79,43 @@ void AdmissionControl::requireFits(int64_t bytes, std::string_view what) const {
 
 AdmissionControl::Slot AdmissionControl::acquire(const CancellationToken& cancel,
                                                  const std::function<void(int)>& onQueued, int64_t bytes,
-                                                 std::string_view what) {
+                                                 std::string_view what, AdmissionLane which) {
   bytes = std::max<int64_t>(bytes, 0);
+  if (!lightLane_) which = AdmissionLane::kMain;
   std::unique_lock lock(mutex_);
   if (bytes > memory_) {
     ++rejected_;
     requireFits(bytes, what);
   }
-  if (running_ < maxRunning_ && waiting_.empty() && growing_ == 0 && reserved_ + bytes <= memory_) {
+  Lane& l = lane(which);
+  auto start = [&] {
+    ++l.running;
     ++running_;
     reserved_ += bytes;
-    return Slot(this, &cancel, bytes);
+    return Slot(this, &cancel, bytes, which);
+  };
+  if (l.running < l.maxRunning && l.waiting.empty() && !growingAheadLocked(which) && reserved_ + bytes <= memory_) {
+    return start();
   }
-  if (static_cast<int>(waiting_.size()) >= maxQueued_) {
+  if (static_cast<int>(l.waiting.size()) >= maxQueued_) {
     ++rejected_;
-    int64_t retryAfter = retryAfterMsLocked();
+    int64_t retryAfter = retryAfterMsLocked(which);
     throw StatusError(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                      fmt::format("server busy: {} jobs running and {} queued (the limits); "
+                      fmt::format("server busy: {} jobs running and {} queued{} (the limits); "
                                   "retry after {} ms",
-                                  running_, waiting_.size(), retryAfter),
+                                  l.running, l.waiting.size(), which == AdmissionLane::kLight ? " in the light lane" : "",
+                                  retryAfter),
                       retryAfter);
   }
   uint64_t ticket = nextTicket_++;
-  auto mine = waiting_.insert(waiting_.end(), Waiting{ticket, bytes});
+  auto mine = l.waiting.insert(l.waiting.end(), Waiting{ticket, bytes});
   // Leaving the queue early must also let the next in line move to the front.
   auto leave = [&] {
-    waiting_.erase(mine);
+    l.waiting.erase(mine);
     changed_.notify_all();
   };
   if (onQueued) {
-    int position = static_cast<int>(waiting_.size());
+    int position = static_cast<int>(l.waiting.size());
     lock.unlock();
     try {
       onQueued(position);
@@ -109,18 +126,16 @@ AdmissionControl::Slot AdmissionControl::acquire(const CancellationToken& cancel
     }
     lock.lock();
   }
-  while (!mayStartLocked(ticket)) {
+  while (!mayStartLocked(ticket, which)) {
     if (cancel.cancelled()) {
       leave();
       throw OperationCancelled();
     }
     changed_.wait_for(lock, kCancelPollInterval);
   }
-  waiting_.erase(mine);
-  ++running_;
-  reserved_ += bytes;
+  l.waiting.erase(mine);
   changed_.notify_all();
-  return Slot(this, &cancel, bytes);
+  return start();
 }
 
 void AdmissionControl::reserve(Slot& slot, int64_t bytes, std::string_view what) {
@@ -147,7 +162,7 @@ void AdmissionControl::reserve(Slot& slot, int64_t bytes, std::string_view what)
     if (running_ - growing_ - waitingForOthers_ <= 0) {
       stopGrowing();
       ++rejected_;
-      const int64_t retryAfter = retryAfterMsLocked();
+      const int64_t retryAfter = retryAfterMsLocked(slot.lane_);
       throw StatusError(grpc::StatusCode::RESOURCE_EXHAUSTED,
                         fmt::format("{} needs about {} of memory and other jobs hold {} of the server's memory "
                                     "budget for jobs of {}; retry after {} ms",
@@ -178,17 +193,20 @@ void AdmissionControl::waitForAnotherJob(int change) {
 
 void AdmissionControl::release(const Slot& slot) {
   std::lock_guard lock(mutex_);
+  Lane& l = lane(slot.lane_);
+  --l.running;
   --running_;
   reserved_ -= slot.bytes_;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - slot.start_).count();
-  typicalJobSeconds_ = 0.8 * typicalJobSeconds_ + 0.2 * seconds;
+  l.typicalJobSeconds = 0.8 * l.typicalJobSeconds + 0.2 * seconds;
   changed_.notify_all();
 }
 
-int64_t AdmissionControl::retryAfterMsLocked() const {
-  // Roughly when a queue slot frees: the jobs ahead, spread over the running slots.
-  double ahead = static_cast<double>(waiting_.size() + 1) / maxRunning_;
-  auto ms = static_cast<int64_t>(std::ceil(1000.0 * typicalJobSeconds_ * ahead));
+int64_t AdmissionControl::retryAfterMsLocked(AdmissionLane which) const {
+  // Roughly when a queue slot frees: the jobs ahead, spread over the lane's running slots.
+  const Lane& l = lane(which);
+  double ahead = static_cast<double>(l.waiting.size() + 1) / l.maxRunning;
+  auto ms = static_cast<int64_t>(std::ceil(1000.0 * l.typicalJobSeconds * ahead));
   return std::clamp(ms, kMinRetryAfterMs, kMaxRetryAfterMs);
 }
 
@@ -199,7 +217,17 @@ int AdmissionControl::running() const {
 
 int AdmissionControl::queued() const {
   std::lock_guard lock(mutex_);
-  return static_cast<int>(waiting_.size());
+  return static_cast<int>(lanes_[0].waiting.size() + lanes_[1].waiting.size());
+}
+
+int AdmissionControl::running(AdmissionLane which) const {
+  std::lock_guard lock(mutex_);
+  return lane(which).running;
+}
+
+int AdmissionControl::queued(AdmissionLane which) const {
+  std::lock_guard lock(mutex_);
+  return static_cast<int>(lane(which).waiting.size());
 }
 
 uint64_t AdmissionControl::rejected() const {

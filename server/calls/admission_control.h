@@ -3,6 +3,12 @@
 // server refuses at once with RESOURCE_EXHAUSTED and a retry hint instead of letting latency
 // grow without bound; this is what keeps a 2-core box responsive under a burst.
 //
+// Jobs come in two lanes, each with its own slots and its own queue (server/README.md,
+// Scheduling by cost): the main lane, and a light lane for jobs known before they start to be
+// short (a small upload, a tessellation of a mesh already preprocessed whose estimated output is
+// small, job_cost.h). A light job never waits behind a long one for a slot: with every main slot
+// held for minutes, the light lane still turns over in milliseconds. Both lanes share the memory.
+//
 // Memory is admitted the same way, in bytes: the jobs together hold at most `memoryBytes`
 // (the server's --memory-budget less its caches). A job starts only when what it reserves up
 // front fits beside the others', and reserves more as it learns its size (MemoryReservation).
@@ -27,6 +33,9 @@
 
 namespace tessera::server {
 
+// Which slots and queue a job takes (see above).
+enum class AdmissionLane { kMain = 0, kLight = 1 };
+
 class AdmissionControl {
  public:
   static constexpr int64_t kUnlimited = INT64_MAX / 4;
@@ -48,29 +57,37 @@ class AdmissionControl {
 
    private:
     friend class AdmissionControl;
-    Slot(AdmissionControl* owner, const CancellationToken* cancel, int64_t bytes);
+    Slot(AdmissionControl* owner, const CancellationToken* cancel, int64_t bytes, AdmissionLane lane);
     AdmissionControl* owner_;
     const CancellationToken* cancel_;
     int64_t bytes_;
+    AdmissionLane lane_;
     std::chrono::steady_clock::time_point start_;
   };
 
   // memoryBytes: what the jobs together may reserve; memoryNote, how the server came to it
-  // (for messages, e.g. "--memory-budget 6 GiB less the caches' 1 GiB").
+  // (for messages, e.g. "--memory-budget 6 GiB less the caches' 1 GiB"). maxRunning and
+  // maxQueued are the main lane's; the light lane has maxLightRunning slots (0: as many as the
+  // main lane; negative: no light lane, its jobs go to the main lane) and a queue as deep.
   AdmissionControl(int maxRunning, int maxQueued, int64_t memoryBytes = kUnlimited,
-                   std::string memoryNote = "");
+                   std::string memoryNote = "", int maxLightRunning = 0);
 
   // Waits for a slot, and for `bytes` of memory for `what`, while polling cancel.
   // onQueued(position) runs once, before waiting, when the job has to wait (position 1 = next).
   // Throws StatusError(RESOURCE_EXHAUSTED, with retryAfterMs) when the queue is full,
   // RESOURCE_EXHAUSTED without a retry hint when `bytes` exceed the whole budget, and
-  // OperationCancelled when cancelled while waiting. `cancel` must outlive the slot.
+  // OperationCancelled when cancelled while waiting. `cancel` must outlive the slot. The job
+  // waits in `lane` only: behind the jobs queued there, for that lane's slots.
   Slot acquire(const CancellationToken& cancel, const std::function<void(int position)>& onQueued = {},
-               int64_t bytes = 0, std::string_view what = "the job");
+               int64_t bytes = 0, std::string_view what = "the job", AdmissionLane lane = AdmissionLane::kMain);
 
+  // Jobs running and waiting in both lanes, or in one.
   int running() const;
   int queued() const;
-  int maxRunning() const { return maxRunning_; }
+  int running(AdmissionLane lane) const;
+  int queued(AdmissionLane lane) const;
+  int maxRunning() const { return lanes_[0].maxRunning; }
+  int maxLightRunning() const { return lanes_[1].maxRunning; }
   int maxQueued() const { return maxQueued_; }
   uint64_t rejected() const;
   int64_t memoryBudget() const { return memory_; }
@@ -83,28 +100,37 @@ class AdmissionControl {
   void reserve(Slot& slot, int64_t bytes, std::string_view what);
   void giveBack(Slot& slot, int64_t bytes);
   void waitForAnotherJob(int change);
-  int64_t retryAfterMsLocked() const;
-  bool mayStartLocked(uint64_t ticket) const;
+  int64_t retryAfterMsLocked(AdmissionLane lane) const;
+  bool mayStartLocked(uint64_t ticket, AdmissionLane lane) const;
+  bool growingAheadLocked(AdmissionLane lane) const;
 
   struct Waiting {
     uint64_t ticket;
     int64_t bytes;
   };
+  struct Lane {
+    explicit Lane(int slots) : maxRunning(slots) {}
+    int maxRunning;
+    int running = 0;
+    std::list<Waiting> waiting;       // in arrival order
+    double typicalJobSeconds = 1.0;   // moving average, for the retry hint
+  };
+  Lane& lane(AdmissionLane which) { return lanes_[static_cast<int>(which)]; }
+  const Lane& lane(AdmissionLane which) const { return lanes_[static_cast<int>(which)]; }
 
-  const int maxRunning_;
+  Lane lanes_[2];
+  const bool lightLane_;
   const int maxQueued_;
   const int64_t memory_;
   const std::string memoryNote_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
-  int running_ = 0;
+  int running_ = 0;             // in both lanes
   int growing_ = 0;             // running jobs waiting in reserve()
   int waitingForOthers_ = 0;    // running jobs waiting for work another job does for them
   int64_t reserved_ = 0;        // bytes held by running jobs
-  std::list<Waiting> waiting_;  // in arrival order
   uint64_t nextTicket_ = 0;
   uint64_t rejected_ = 0;
-  double typicalJobSeconds_ = 1.0;  // moving average, for the retry hint
 };
 
 // "1.5 GiB", "300 MiB", "12 KiB": sizes in messages.

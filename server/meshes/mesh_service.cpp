@@ -19,6 +19,8 @@ constexpr int kDefaultPageSize = 50;
 constexpr int kMaxPageSize = 1000;
 // Well under gRPC's 4 MiB message limit, and big enough that per-message overhead is small.
 constexpr size_t kDownloadChunkBytes = 64 * 1024;
+// Uploads up to this size take the light lane (admission_control.h).
+constexpr int64_t kLightUploadBytes = 4 << 20;
 
 }  // namespace
 
@@ -53,8 +55,12 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     // Read() also returns false when the client cancels or the deadline passes: that is not the
     // end of a complete upload.
     cancel.throwIfCancelled();
-    // Parsing and validating is the CPU-heavy part; receiving is not, so it waits outside.
-    AdmissionControl::Slot slot = admission_.acquire(cancel);
+    // Parsing and validating is the CPU-heavy part; receiving is not, so it waits outside. A
+    // small upload is short (armorguy's 1.3 MB OBJ parses and validates in well under a second),
+    // so it takes the light lane and is never queued behind long tessellations.
+    const AdmissionLane lane =
+        upload.receivedBytes() <= kLightUploadBytes ? AdmissionLane::kLight : AdmissionLane::kMain;
+    AdmissionControl::Slot slot = admission_.acquire(cancel, {}, 0, "the upload", lane);
     AssembledUpload assembled = upload.finish();
     admission_.requireFits(assembled.preprocessingBytes, assembled.where + "preprocessing the mesh");
     cancel.throwIfCancelled();

@@ -66,13 +66,7 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
     cache_.insert(keyAt(meshSha256, floor), std::make_shared<const Entry>(Entry{patches, nullptr}), bytesOf(*patches));
     return patches;
   };
-  // Any chain floor at or below this request's serves it, the finest (kChainFloor) last.
-  auto cached = [&]() -> std::shared_ptr<const PatchSet> {
-    for (double at = floor; at >= kChainFloor * (1 - 1e-9); at /= 10) {
-      if (auto found = cache_.find(keyAt(meshSha256, at))) return found->patches;
-    }
-    return nullptr;
-  };
+  auto cached = [&] { return cachedFor(meshSha256, floor); };
   std::shared_ptr<const PatchSet> patches = builds_.get(keyAt(meshSha256, floor), cancel, memory, cached, build);
   if (!built) hits_.fetch_add(1);
   return patches;
@@ -106,6 +100,18 @@ CacheStats PatchSetCache::topologyStats() const {
   stats.hits = topologyHits_.load();
   stats.misses = topologyMisses_.load();
   return stats;
+}
+
+std::shared_ptr<const PatchSet> PatchSetCache::cachedFor(const std::string& meshSha256, double floor) {
+  // Any chain floor at or below this request's serves it, the finest (kChainFloor) last.
+  for (double at = floor; at >= kChainFloor * (1 - 1e-9); at /= 10) {
+    if (auto found = cache_.find(keyAt(meshSha256, at))) return found->patches;
+  }
+  return nullptr;
+}
+
+bool PatchSetCache::holds(const std::string& meshSha256, double finestRelativeTolerance) {
+  return cachedFor(meshSha256, chainFloorFor(finestRelativeTolerance)) != nullptr;
 }
 
 CacheStats PatchSetCache::stats() const {

@@ -57,6 +57,11 @@ class PatchSetCache {
                                       const CancellationToken& cancel, MemoryReservation* memory,
                                       double finestRelativeTolerance = 0);
 
+  // Whether get() would find this content's patch set cached, for a request down to
+  // `finestRelativeTolerance` (no preprocessing): how the server tells a cheap job before it is
+  // admitted (server/tessellation/job_cost.h). Counts as a use of the entry, not as a hit.
+  bool holds(const std::string& meshSha256, double finestRelativeTolerance);
+
   // hits: calls that found the patch set built (in the cache, or by the build they waited for);
   // misses: builds started (each preprocessing, finished or not); bytes and entries: patch sets
   // and topologies together.
@@ -67,6 +72,7 @@ class PatchSetCache {
  private:
   std::shared_ptr<const MeshTopology> topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
                                                  MemoryReservation* memory, const PreprocessingOptions& options);
+  std::shared_ptr<const PatchSet> cachedFor(const std::string& meshSha256, double chainFloor);
 
   // A cache entry: a patch set (keyed by content and chain floor) or a topology (by topology).
   struct Entry {

@@ -25,6 +25,9 @@ class CpuTessellationEngine : public TessellationEngine {
   std::string detail() const override;
   TessellationOutput run(const ControlMesh& mesh, const TessellationJob& job,
                          const CancellationToken& cancel) override;
+  bool preprocessed(const std::string& meshSha256, double finestRelativeTolerance) const override {
+    return patches_.holds(meshSha256, finestRelativeTolerance);
+  }
 
  protected:
   // Where a job's vertices are evaluated, given its patch set: null for the CPU's own path.

@@ -87,6 +87,13 @@ class TessellationEngine {
   // The accelerator it runs on, one line (empty: the CPU only), for GetServerInfo and metrics.
   virtual std::string device() const { return {}; }
 
+  // Whether a job on this content, down to `finestRelativeTolerance` (0: any; core's
+  // finestRelativeTolerance), would find its preprocessing done: the server's sign of a cheap job
+  // (job_cost.h). False when the engine cannot tell.
+  virtual bool preprocessed(const std::string& /*meshSha256*/, double /*finestRelativeTolerance*/) const {
+    return false;
+  }
+
   // Tessellates mesh (already validated) as job asks. Polls cancel often enough to
   // stop within a fraction of a second and then throws OperationCancelled (core's
   // TessellationOptions::checkpoint can call cancel.throwIfCancelled()). Reports bad or

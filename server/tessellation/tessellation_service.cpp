@@ -92,6 +92,12 @@ void sendSummary(Writer& writer, const TessellationOutput& output) {
 
 }  // namespace
 
+AdmissionLane TessellationServiceImpl::laneFor(const TessellationJob& job, const JobShape& shape) const {
+  if (!engine_.preprocessed(job.meshSha256, shape.uniform ? 0 : shape.relativeTolerance)) return AdmissionLane::kMain;
+  const std::optional<double> triangles = costs_.estimate(job.meshSha256, shape);
+  return triangles && *triangles <= double(lightJobTriangles_) ? AdmissionLane::kLight : AdmissionLane::kMain;
+}
+
 grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
                                                  const v1::TessellateRequest* request,
                                                  grpc::ServerWriter<v1::TessellateResponse>* stream) {
@@ -105,16 +111,19 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
     MeshMetadata metadata = repository_.metadata(id);
     placeOnMesh(job, metadata, limits_);
     CancellationToken cancel = cancellationFor(*context);
+    // The mesh before admission (almost always the decoded copy the repository keeps): a camera
+    // that asks too much is refused without queueing, and the job's shape picks its lane.
+    sendProgress(*writer, "loading", 0.0);
+    std::shared_ptr<const ControlMesh> mesh = repository_.mesh(metadata);
+    checkOnMesh(job, *mesh, limits_);
+    const JobShape shape = shapeOf(*mesh, job);
     TessellationOutput output;
     {
       // The slot covers the computation only: streaming the result is I/O and must not keep the
       // next job from computing.
       AdmissionControl::Slot slot = admission_.acquire(
-          cancel, [&](int) { sendProgress(*writer, "queued", 0.0); });
+          cancel, [&](int) { sendProgress(*writer, "queued", 0.0); }, 0, "the job", laneFor(job, shape));
       job.memory = &slot;
-      sendProgress(*writer, "loading", 0.0);
-      std::shared_ptr<const ControlMesh> mesh = repository_.mesh(metadata);
-      checkOnMesh(job, *mesh, limits_);
       ProgressForwarder forward(*writer);
       job.reportProgress = [&](std::string_view stage, double fraction) { forward(stage, fraction); };
       try {
@@ -123,6 +132,7 @@ grpc::Status TessellationServiceImpl::Tessellate(grpc::ServerContext* context,
         throwStatus(grpc::StatusCode::UNIMPLEMENTED, error.what());
       }
     }
+    costs_.record(job.meshSha256, shape, output.summary.triangles);
     sendGlb(*writer, output.glb, cancel);
     sendSummary(*writer, output);
     metrics_.trianglesProduced.add({}, static_cast<double>(output.summary.triangles));

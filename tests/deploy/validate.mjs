@@ -37,7 +37,7 @@ function podChecks(deployment, overlay) {
   check(env.TESSERA_STORE?.valueFrom?.secretKeyRef, `${overlay}: the store's DSN is not from a Secret`);
   check(env.TESSERA_TOKEN_FILE && pod.volumes.some((v) => v.secret?.secretName === 'tessera-token'),
         `${overlay}: the token is not from a Secret`);
-  const drain = Number(env.TESSERA_DRAIN_DELAY?.value ?? 1), grace = Number(env.TESSERA_SHUTDOWN_GRACE?.value ?? 5);
+  const drain = Number(env.TESSERA_DRAIN_DELAY?.value ?? 1), grace = Number(env.TESSERA_SHUTDOWN_GRACE?.value ?? 4);
   check(drain >= (server.readinessProbe?.periodSeconds ?? 10),
         `${overlay}: the drain delay must outlast one readiness period, so the pod leaves the Services first`);
   check(drain + grace < (pod.terminationGracePeriodSeconds ?? 30),

@@ -3,7 +3,10 @@
 // Every request ends with a code it may end with (a cold one OK, or RESOURCE_EXHAUSTED with a
 // message), every normal request is served (after waiting out pushbacks) while the storm uploads
 // meshes the server has never seen, each of which it preprocesses, the server's peak resident
-// memory stays within its budget, and what the run leaves resident afterwards is bounded.
+// memory stays within its budget, and what the run leaves resident afterwards is bounded. Each
+// hostile client starts and ends with runaways (bigguy at 1e-5, seconds of work under load, with
+// a 1 s deadline): once every client has its answers the server's CPU is idle within 2 s, and
+// again after one more alone with a 0.3 s deadline.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -57,10 +60,17 @@ TEST(SoakTest, HostileColdStormAndNormalClientsUnderABudget) {
   EXPECT_EQ(cold["distinct_contents"].get<int>(), cold["uploads_ok"].get<int>()) << report;
   EXPECT_GE(seriesValue(metrics, "tessera_patch_cache_misses_total"), cold["first_glbs_ok"].get<double>()) << metrics;
   bool refusedHuge = false;
+  int runaways = 0;
   for (const auto& answer : r["answers"]) {
     refusedHuge |= answer["kind"] == "uniform level 40" && answer["code"] == "RESOURCE_EXHAUSTED";
+    if (answer["kind"] == "runaway 1e-5 (1 s deadline)") runaways += answer["count"].get<int>();
   }
   EXPECT_TRUE(refusedHuge) << report;
+  EXPECT_GE(runaways, 3) << report;
+  EXPECT_GE(r["server_idle_after_s"].get<double>(), 0) << report;
+  EXPECT_LE(r["server_idle_after_s"].get<double>(), 2.0) << report;
+  EXPECT_GE(r["runaway_idle_after_s"].get<double>(), 0) << report;
+  EXPECT_LE(r["runaway_idle_after_s"].get<double>(), 2.0) << report;
 }
 
 }  // namespace

@@ -15,9 +15,12 @@
 // budget, its resident memory before and after, every request kind's answers by status code,
 // the normal requests' latency beside the storm, the cold uploads and first GLBs (how many, how
 // many distinct contents, refusals, latency), and whether the server still serves a normal
-// request at the end. Exits 1 when a request ended with a code it may not end with or the last
-// request failed.
+// request at the end, and how soon after the clients' last answers the server's CPU is idle (each
+// hostile client starts and ends with runaways: legitimately long Tessellates with a 1 s deadline, which
+// the server must stop then). Exits 1 when a request ended with a code it may not end with or the
+// last request failed.
 #include <grpcpp/grpcpp.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -63,6 +66,34 @@ int64_t serverMemory(int pid, const std::string& field) {
     if (line.rfind(field + ":", 0) == 0) return std::stoll(line.substr(field.size() + 1)) * 1024;
   }
   return -1;
+}
+
+// User plus system CPU seconds of the process (/proc/PID/stat fields 14 and 15), -1 if gone.
+double cpuSeconds(int pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  const std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  const size_t close = text.rfind(')');
+  if (close == std::string::npos) return -1;
+  std::istringstream fields(text.substr(close + 2));
+  std::string field;
+  long long ticks = 0;
+  for (int i = 3; i <= 15 && fields >> field; ++i) {
+    if (i >= 14) ticks += std::stoll(field);
+  }
+  return double(ticks) / double(sysconf(_SC_CLK_TCK));
+}
+
+// Seconds until the process uses under 10 % of a core over 300 ms; -1 after `limit` seconds.
+double secondsUntilIdle(int pid, double limit) {
+  const auto start = Clock::now();
+  for (;;) {
+    const auto from = Clock::now();
+    const double before = cpuSeconds(pid);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const double window = std::chrono::duration<double>(Clock::now() - from).count();
+    if (cpuSeconds(pid) - before < 0.1 * window) return std::chrono::duration<double>(from - start).count();
+    if (std::chrono::duration<double>(Clock::now() - start).count() > limit) return -1;
+  }
 }
 
 std::string readText(const std::filesystem::path& path) {
@@ -126,6 +157,8 @@ double mib(int64_t bytes) { return double(bytes) / 1048576.0; }
 
 struct Report {
   int64_t budget = 0, jobBudget = 0, rssBefore = 0, rssAfter = 0, peak = 0, peakSampled = 0;
+  double idleAfterSeconds = -1;  // from the clients' last answer until the server's CPU is idle
+  double runawayIdleAfterSeconds = -1;  // from the last runaway's answer until then
   double seconds = 0;
   std::vector<Outcome> outcomes;
   Outcome last;
@@ -145,6 +178,8 @@ std::vector<tessera::cli::ColdSource> coldSources(v1::MeshService::Stub& stub, c
   return sources;
 }
 
+constexpr auto kRunawayStretch = std::chrono::seconds(4);
+
 // Each client's loop until the end time; outcomes kept per client, merged at the end.
 std::vector<Outcome> runClients(const Options& options, const SoakSetup& setup) {
   std::vector<std::vector<Outcome>> perClient(size_t(options.clients));
@@ -162,7 +197,10 @@ std::vector<Outcome> runClients(const Options& options, const SoakSetup& setup) 
         if (role == Role::kCold) {
           for (Outcome& o : tessera::soak::coldRequest(client, setup, c, serial)) outcomes.push_back(std::move(o));
         } else {
-          outcomes.push_back(role == Role::kHostile ? tessera::soak::hostileRequest(client, setup, c, serial)
+          // A hostile client's first request and those in the last seconds are runaways, so that
+          // the soak has them, and ends with them running (the CPU must go idle after: below).
+          const bool runaway = serial == 0 || end - Clock::now() < kRunawayStretch;
+          outcomes.push_back(role == Role::kHostile ? tessera::soak::hostileRequest(client, setup, c, serial, runaway)
                                                     : tessera::soak::normalRequest(client, setup));
         }
       }
@@ -204,6 +242,8 @@ nlohmann::json toJson(const Options& options, const Report& report) {
                         {"job_memory_bytes", report.jobBudget}, {"rss_before_bytes", report.rssBefore},
                         {"rss_after_bytes", report.rssAfter}, {"peak_rss_bytes", report.peak},
                         {"peak_rss_sampled_bytes", report.peakSampled},
+                        {"server_idle_after_s", report.idleAfterSeconds},
+                        {"runaway_idle_after_s", report.runawayIdleAfterSeconds},
                         {"last_request_ok", report.last.code == grpc::StatusCode::OK}};
   // Per request kind and answer: how many, and their total time.
   std::map<std::pair<std::string, std::string>, std::pair<int, double>> counts;
@@ -245,6 +285,9 @@ void printMarkdown(const nlohmann::json& r) {
               "%.0f MiB after\n",
               mib(r["rss_before_bytes"]), mib(r["peak_rss_bytes"]), mib(r["peak_rss_sampled_bytes"]),
               mib(r["rss_after_bytes"]));
+  std::printf("- the server's CPU idle %.1f s after the clients' last answers, %.1f s after a last runaway's "
+              "deadline (-1: still busy after 30 s)\n",
+              r["server_idle_after_s"].get<double>(), r["runaway_idle_after_s"].get<double>());
   const auto& n = r["normal"];
   std::printf("- normal (warm) requests: %d, %d OK, %d pushbacks waited out; latency of the OK ones (pushbacks "
               "included) p50 %.1f ms, p99 %.1f ms, max %.1f ms\n",
@@ -311,6 +354,13 @@ int run(const Options& options) {
   report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   sampling = false;
   sampler.join();
+  // Every call has ended for its client (the runaways at their deadlines): the server must
+  // stop their work too (issue 47), so its CPU goes idle.
+  report.idleAfterSeconds = secondsUntilIdle(options.serverPid, 30);
+  // And one more, alone, whose end is the CPU's only cause to go idle.
+  SoakClient runaway(channel);
+  report.outcomes.push_back(tessera::soak::lastRunaway(runaway, setup));
+  report.runawayIdleAfterSeconds = secondsUntilIdle(options.serverPid, 30);
   // Calls the clients abandoned end on the server within moments; then memory is measured.
   std::this_thread::sleep_for(std::chrono::seconds(3));
   report.rssAfter = serverMemory(options.serverPid, "VmRSS");

@@ -223,11 +223,12 @@ void warmUp(SoakClient& client, const SoakSetup& setup) {
   }
 }
 
-Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial) {
+Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial, bool runaway) {
   const std::string id = "soak-" + std::to_string(clientIndex) + "-" + std::to_string(serial);
   const std::string& token = setup.token;
   const auto start = Clock::now();
-  switch (client.random() % (setup.renderAvailable ? 8 : 7)) {
+  const uint32_t kinds = setup.renderAvailable ? 9 : 8;
+  switch (runaway ? 7 : client.random() % kinds) {
     case 0:
       return creasedUpload(client, setup, id);
     case 1: {
@@ -254,12 +255,23 @@ Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientInd
       return finish("abandoned 1e-3", Role::kHostile,
                     tessellate(client, token, relativeRequest(setup.largeMesh, 1e-3), 120, 1), start,
                     {Code::CANCELLED, Code::OK, Code::RESOURCE_EXHAUSTED});
+    case 7:
+      // Legitimate but long (bigguy at 1e-5: 2 M triangles, seconds under load, within a 3 GiB
+      // budget), bounded by its client's deadline: the server must stop it then (issue 47).
+      return finish(kRunaway, Role::kHostile, tessellate(client, token, relativeRequest(setup.smallMesh, 1e-5), 1),
+                    start, {Code::DEADLINE_EXCEEDED, Code::RESOURCE_EXHAUSTED});
     default:
       return finish("frame 8192x8192 raw", Role::kHostile,
                     render(client, token,
                            frameRequest(setup.smallMesh, setup.smallView, 8192, 8192, v1::IMAGE_FORMAT_RAW_RGBA), 120),
                     start, kHeavy);
   }
+}
+
+Outcome lastRunaway(SoakClient& client, const SoakSetup& setup) {
+  const auto start = Clock::now();
+  return finish(kLastRunaway, Role::kHostile, tessellate(client, setup.token, relativeRequest(setup.smallMesh, 1e-5), 0.3),
+                start, {Code::DEADLINE_EXCEEDED});
 }
 
 std::vector<Outcome> coldRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial) {

@@ -68,8 +68,17 @@ Outcome normalRequest(SoakClient& client, const SoakSetup& setup);
 // Both meshes tessellated once at 1e-2, so that their patch sets are built and cached; throws
 // if either fails.
 void warmUp(SoakClient& client, const SoakSetup& setup);
-// A hostile request chosen at random.
-Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial);
+// The runaway's kind in reports: a legitimately long Tessellate with a 1 s deadline.
+inline constexpr const char* kRunaway = "runaway 1e-5 (1 s deadline)";
+
+// The runaway (bigguy at 1e-5, ~1.5 s alone) with a 0.3 s deadline, sent alone after the soak:
+// the server must stop it at once. (Under a 3 GiB budget nothing much longer is admitted: bigguy at
+// 1e-6, 17 M triangles, needs ~11 GiB for its output and is refused once planned.)
+inline constexpr const char* kLastRunaway = "last runaway 1e-5 (0.3 s deadline)";
+Outcome lastRunaway(SoakClient& client, const SoakSetup& setup);
+
+// A hostile request chosen at random, or the runaway.
+Outcome hostileRequest(SoakClient& client, const SoakSetup& setup, int clientIndex, uint64_t serial, bool runaway);
 
 // A cold storm request: a copy of one of the cold sources, with content of its own, uploaded,
 // tessellated once and deleted (its patch set stays in the server's cache until evicted); two
