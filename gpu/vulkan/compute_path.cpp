@@ -142,9 +142,10 @@ void ComputePath::record(VkCommandBuffer cmd, const PatchUpload& upload,
       clock.enter(Stage::kRaster);
       targets.beginRendering(cmd, b == 0, background, band);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterPipeline_);
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterLayout_, 0, 1, &rasterSet_,
-                              0, nullptr);
-      vkCmdDrawIndirect(cmd, draws_.handle(), 0, batch.patchCount, static_cast<uint32_t>(kDrawBytes));
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterLayout_, 0, 1,
+                              &rasterSet_, 0, nullptr);
+      vkCmdDrawIndirect(cmd, draws_.handle(), 0, batch.patchCount,
+                        static_cast<uint32_t>(kDrawBytes));
       targets.endRendering(cmd);
     }
   }

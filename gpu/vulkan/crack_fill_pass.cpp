@@ -37,7 +37,8 @@ CrackFillPass::CrackFillPass(const VulkanContext& context) : device_(context.dev
                                          {6, kStorageImage, kCompute}});
   layout_ = createPipelineLayout(device_, setLayout_, sizeof(Params), kCompute);
   // Dispatched band by band from a base workgroup (vkCmdDispatchBase).
-  pipeline_ = createComputePipeline(device_, layout_, ShaderId::kCrackFillComp, VK_PIPELINE_CREATE_DISPATCH_BASE_BIT);
+  pipeline_ = createComputePipeline(device_, layout_, ShaderId::kCrackFillComp,
+                                    VK_PIPELINE_CREATE_DISPATCH_BASE_BIT);
   pool_ = createPool(device_, 1, {kSampled, kStorageImage}, 4);
   set_ = allocateSet(device_, pool_, setLayout_);
 }
@@ -65,9 +66,11 @@ void CrackFillPass::bind(const RenderTargets& targets) {
                        VK_NULL_HANDLE);
 }
 
-void CrackFillPass::record(VkCommandBuffer cmd, const RenderTargets& targets, StageClock& clock) const {
+void CrackFillPass::record(VkCommandBuffer cmd, const RenderTargets& targets,
+                           StageClock& clock) const {
   Params params{static_cast<int32_t>(targets.width()), static_cast<int32_t>(targets.height())};
-  const std::vector<RenderTargets::RowBand> bands = targets.bands(RenderTargets::kCrackFillBandPixels);
+  const std::vector<RenderTargets::RowBand> bands =
+      targets.bands(RenderTargets::kCrackFillBandPixels);
   for (size_t k = 0; k < bands.size(); ++k) {
     if (k > 0) clock.enter(Stage::kCrackFilling);  // a new command buffer: bind again
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);

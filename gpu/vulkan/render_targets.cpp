@@ -107,9 +107,11 @@ void RenderTargets::toAttachments(VkCommandBuffer cmd) const {
 
 std::vector<RenderTargets::RowBand> RenderTargets::bands(uint32_t bandPixels) const {
   constexpr uint32_t kRowAlignment = 8;  // crack_fill.comp's workgroup height
-  const uint32_t rows = std::max(kRowAlignment, (bandPixels / width_) / kRowAlignment * kRowAlignment);
+  const uint32_t rows =
+      std::max(kRowAlignment, (bandPixels / width_) / kRowAlignment * kRowAlignment);
   std::vector<RowBand> out;
-  for (uint32_t first = 0; first < height_; first += rows) out.push_back({first, std::min(rows, height_ - first)});
+  for (uint32_t first = 0; first < height_; first += rows)
+    out.push_back({first, std::min(rows, height_ - first)});
   return out;
 }
 
@@ -118,8 +120,8 @@ void RenderTargets::beginRendering(VkCommandBuffer cmd, bool clear,
   beginRendering(cmd, clear, background, RowBand{0, height_});
 }
 
-void RenderTargets::beginRendering(VkCommandBuffer cmd, bool clear, const std::array<float, 4>& background,
-                                   RowBand band) const {
+void RenderTargets::beginRendering(VkCommandBuffer cmd, bool clear,
+                                   const std::array<float, 4>& background, RowBand band) const {
   VkRenderingAttachmentInfo colors[3]{};
   const GpuImage* images[3] = {&color_, &patchId_, &depthRange_};
   VkClearValue clears[3]{};
@@ -172,7 +174,8 @@ void RenderTargets::toCrackFill(VkCommandBuffer cmd) const {
   }
 }
 
-void RenderTargets::recordReadback(VkCommandBuffer cmd, bool fromCrackFill, bool patchIds, StageClock& clock) const {
+void RenderTargets::recordReadback(VkCommandBuffer cmd, bool fromCrackFill, bool patchIds,
+                                   StageClock& clock) const {
   const GpuImage& color = fromCrackFill ? filledColor_ : color_;
   const GpuImage& patchId = fromCrackFill ? filledPatchId_ : patchId_;
   const GpuImage& depth = fromCrackFill ? filledDepth_ : depth_;
@@ -202,7 +205,8 @@ void RenderTargets::recordReadback(VkCommandBuffer cmd, bool fromCrackFill, bool
 
 VkDeviceSize RenderTargets::bytes() const {
   VkDeviceSize total = colorReadback_.size() + patchIdReadback_.size() + depthReadback_.size();
-  for (const GpuImage* image : {&color_, &patchId_, &depthRange_, &depth_, &filledColor_, &filledPatchId_, &filledDepth_}) {
+  for (const GpuImage* image :
+       {&color_, &patchId_, &depthRange_, &depth_, &filledColor_, &filledPatchId_, &filledDepth_}) {
     total += image->size();
   }
   return total;
@@ -211,7 +215,8 @@ VkDeviceSize RenderTargets::bytes() const {
 namespace {
 
 // memcpy in slices, polling between them.
-void copyInSlices(void* to, const void* from, size_t bytes, const std::function<void()>& checkpoint) {
+void copyInSlices(void* to, const void* from, size_t bytes,
+                  const std::function<void()>& checkpoint) {
   constexpr size_t kSlice = 64 << 20;
   for (size_t offset = 0; offset < bytes; offset += kSlice) {
     if (checkpoint) checkpoint();
@@ -222,7 +227,8 @@ void copyInSlices(void* to, const void* from, size_t bytes, const std::function<
 
 }  // namespace
 
-void RenderTargets::copyTo(Frame& frame, bool patchIds, const std::function<void()>& checkpoint) const {
+void RenderTargets::copyTo(Frame& frame, bool patchIds,
+                           const std::function<void()>& checkpoint) const {
   size_t pixels = size_t(width_) * height_;
   frame.width = width_;
   frame.height = height_;

@@ -54,7 +54,8 @@ class RenderTargets {
   void toCrackFill(VkCommandBuffer cmd) const;  // raster targets readable, outputs writable
   // Copies colour, depth and (with `patchIds`) patch ids to the host buffers; a frame of several
   // bands copies each image in a stage of its own (`clock`), so that it can be abandoned between.
-  void recordReadback(VkCommandBuffer cmd, bool fromCrackFill, bool patchIds, StageClock& clock) const;
+  void recordReadback(VkCommandBuffer cmd, bool fromCrackFill, bool patchIds,
+                      StageClock& clock) const;
 
   // Copies the read-back pixels into `frame` (after the frame's fence has signalled), 64 MiB at
   // a time with `checkpoint` (may be null, may throw) between: 0.8 GB at 8192 x 8192.

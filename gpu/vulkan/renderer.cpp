@@ -156,7 +156,8 @@ bool Renderer::hasMeshShaders() const {
 
 uint64_t Renderer::frameMemoryBytes() const {
   const Impl& s = *impl_;
-  return (s.targets ? s.targets->bytes() : 0) + s.computePath->geometryBytes() + s.shared.patches.size();
+  return (s.targets ? s.targets->bytes() : 0) + s.computePath->geometryBytes() +
+         s.shared.patches.size();
 }
 
 void Renderer::releaseFrameMemory() {
@@ -191,8 +192,10 @@ Frame Renderer::render(std::span<const RenderPatch> patches, const Camera& camer
   if (options.checkpoint) options.checkpoint();
   // Stages: setup; per batch tessellation and a raster per band; crack filling per band; readback.
   const uint32_t bands = static_cast<uint32_t>(s.targets->bands().size());
-  const uint32_t fillBands = static_cast<uint32_t>(s.targets->bands(RenderTargets::kCrackFillBandPixels).size());
-  s.clock->begin(static_cast<uint32_t>(upload.batches.size()) * (1 + bands) + fillBands + 4, options.checkpoint);
+  const uint32_t fillBands =
+      static_cast<uint32_t>(s.targets->bands(RenderTargets::kCrackFillBandPixels).size());
+  s.clock->begin(static_cast<uint32_t>(upload.batches.size()) * (1 + bands) + fillBands + 4,
+                 options.checkpoint);
   s.targets->toAttachments(s.cmd);
   s.recordGeometry(path, upload, options);
   if (options.crackFilling) {

@@ -29,7 +29,8 @@ std::string frameSha256Hex(std::span<const uint8_t> bytes, const CancellationTok
   check(EVP_DigestInit_ex(context.get(), EVP_sha256(), nullptr));
   for (size_t offset = 0; offset < bytes.size(); offset += kSliceBytes) {
     cancel.throwIfCancelled();
-    check(EVP_DigestUpdate(context.get(), bytes.data() + offset, std::min(kSliceBytes, bytes.size() - offset)));
+    check(EVP_DigestUpdate(context.get(), bytes.data() + offset,
+                           std::min(kSliceBytes, bytes.size() - offset)));
   }
   std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
   unsigned int length = 0;

@@ -44,9 +44,11 @@ const char* pluginName(FrameFormat format) {
 constexpr int kRowsPerPoll = 256;
 
 // Writes the image band by band, polling `cancel` between bands.
-bool writeRows(OIIO::ImageOutput& output, OIIO::TypeDesc pixelType, const void* pixels, int width, int height,
-               OIIO::stride_t pixelStride, OIIO::stride_t rowStride, const CancellationToken& cancel) {
-  if (pixelStride == OIIO::AutoStride) pixelStride = OIIO::stride_t(pixelType.size()) * output.spec().nchannels;
+bool writeRows(OIIO::ImageOutput& output, OIIO::TypeDesc pixelType, const void* pixels, int width,
+               int height, OIIO::stride_t pixelStride, OIIO::stride_t rowStride,
+               const CancellationToken& cancel) {
+  if (pixelStride == OIIO::AutoStride)
+    pixelStride = OIIO::stride_t(pixelType.size()) * output.spec().nchannels;
   if (rowStride == OIIO::AutoStride) rowStride = pixelStride * width;
   for (int y = 0; y < height; y += kRowsPerPoll) {
     cancel.throwIfCancelled();
@@ -73,7 +75,8 @@ std::vector<uint8_t> writeWithOpenImageIO(OIIO::ImageSpec spec, OIIO::TypeDesc p
   if (!output->open(pluginName(format), spec)) {
     throw std::runtime_error("cannot start the " + name + " encoder: " + output->geterror());
   }
-  bool written = writeRows(*output, pixelType, pixels, spec.width, spec.height, pixelStride, rowStride, cancel);
+  bool written = writeRows(*output, pixelType, pixels, spec.width, spec.height, pixelStride,
+                           rowStride, cancel);
   bool closed = output->close();
   if (!written || !closed)
     throw std::runtime_error(name + " encoding failed: " + output->geterror());
@@ -88,15 +91,17 @@ constexpr int kPngCompressionLevel = 3;
 std::vector<uint8_t> encodePng(const FrameImage& image, const CancellationToken& cancel) {
   OIIO::ImageSpec spec(int(image.width), int(image.height), 4, OIIO::TypeDesc::UINT8);
   spec.attribute("png:compressionLevel", kPngCompressionLevel);
-  return writeWithOpenImageIO(spec, OIIO::TypeDesc::UINT8, image.rgba.data(), FrameFormat::kPng, cancel);
+  return writeWithOpenImageIO(spec, OIIO::TypeDesc::UINT8, image.rgba.data(), FrameFormat::kPng,
+                              cancel);
 }
 
 // JPEG has no alpha: the first three bytes of each pixel are written (strided, no copy).
-std::vector<uint8_t> encodeJpeg(const FrameImage& image, int quality, const CancellationToken& cancel) {
+std::vector<uint8_t> encodeJpeg(const FrameImage& image, int quality,
+                                const CancellationToken& cancel) {
   OIIO::ImageSpec spec(int(image.width), int(image.height), 3, OIIO::TypeDesc::UINT8);
   spec.attribute("Compression", "jpeg:" + std::to_string(quality));
-  return writeWithOpenImageIO(spec, OIIO::TypeDesc::UINT8, image.rgba.data(), FrameFormat::kJpeg, cancel, 4,
-                              OIIO::stride_t(4) * image.width);
+  return writeWithOpenImageIO(spec, OIIO::TypeDesc::UINT8, image.rgba.data(), FrameFormat::kJpeg,
+                              cancel, 4, OIIO::stride_t(4) * image.width);
 }
 
 std::vector<uint8_t> encodeExr(const FrameImage& image, const CancellationToken& cancel) {
@@ -118,7 +123,8 @@ std::vector<uint8_t> encodeExr(const FrameImage& image, const CancellationToken&
     for (size_t c = 0; c < 4; ++c) values[i * channels + c] = float(image.rgba[4 * i + c]) / 255.0f;
     if (withDepth) values[i * channels + 4] = image.depth[i];
   }
-  return writeWithOpenImageIO(spec, OIIO::TypeDesc::FLOAT, values.data(), FrameFormat::kExr, cancel);
+  return writeWithOpenImageIO(spec, OIIO::TypeDesc::FLOAT, values.data(), FrameFormat::kExr,
+                              cancel);
 }
 
 #endif

@@ -104,8 +104,9 @@ class RenderBackend {
 
   // Draws job's camera of mesh (validated). Called concurrently; implementations
   // serialize device access themselves. Polls cancel in every stage (planning, each device
-  // submission, the copy out) and while waiting for the device (OperationCancelled). Throws TesseraError for bad or unsupported input and exceeded
-  // budgets, RenderUnavailable, RenderLimitExceeded, or another std::exception for failures.
+  // submission, the copy out) and while waiting for the device (OperationCancelled). Throws
+  // TesseraError for bad or unsupported input and exceeded budgets, RenderUnavailable,
+  // RenderLimitExceeded, or another std::exception for failures.
   virtual RenderedFrame render(const ControlMesh& mesh, const FrameJob& job,
                                const CancellationToken& cancel) = 0;
 };

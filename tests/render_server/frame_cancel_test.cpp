@@ -5,11 +5,11 @@
 // duration its request log gives the call (the handler's return), against the deadline or the
 // moment of the cancel. Before, the frame ran to its end whatever the client did.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
@@ -54,7 +54,8 @@ class FrameCancelTest : public ::testing::Test {
   static tessera::Camera largeCamera() { return framedCamera({0, 0, 1}, 8192, 8192); }
 
   // Starts a large frame; the caller ends it by deadline or cancel.
-  std::unique_ptr<grpc::ClientReader<v1::RenderResponse>> startLargeFrame(grpc::ClientContext& context) {
+  std::unique_ptr<grpc::ClientReader<v1::RenderResponse>> startLargeFrame(
+      grpc::ClientContext& context) {
     stub_ = v1::RenderService::NewStub(server_->channel());
     return stub_->Render(&context, renderRequest({largeCamera()}, v1::IMAGE_FORMAT_RAW_RGBA));
   }
@@ -69,12 +70,14 @@ class FrameCancelTest : public ::testing::Test {
       std::istringstream lines(server_->log());
       for (std::string line; std::getline(lines, line);) {
         const nlohmann::json parsed = nlohmann::json::parse(line, nullptr, false);
-        if (parsed.is_object() && parsed.value("method", "") == kRender && parsed.value("status", "") == status) {
+        if (parsed.is_object() && parsed.value("method", "") == kRender &&
+            parsed.value("status", "") == status) {
           durations.push_back(parsed["duration_ms"].get<double>());
         }
       }
     }
-    EXPECT_EQ(durations.size(), count) << "Render lines with " << status << " in the log:\n" << server_->log();
+    EXPECT_EQ(durations.size(), count) << "Render lines with " << status << " in the log:\n"
+                                       << server_->log();
     durations.resize(count, 1e9);
     return durations;
   }
@@ -108,7 +111,8 @@ TEST_F(FrameCancelTest, ADeadlineEndsALargeFrameWithinASecond) {
   }
   const std::vector<double> durations = loggedMilliseconds("DEADLINE_EXCEEDED", 2);
   for (size_t i = 0; i < 2; ++i) {
-    std::printf("deadline %d ms: the server ended the call after %.0f ms\n", deadlinesMs[i], durations[i]);
+    std::printf("deadline %d ms: the server ended the call after %.0f ms\n", deadlinesMs[i],
+                durations[i]);
     EXPECT_LT(durations[i], deadlinesMs[i] + kLatenessMs);
   }
   expectIdle();
@@ -120,14 +124,16 @@ TEST_F(FrameCancelTest, AClientCancelEndsALargeFrameWithinASecond) {
   const Clock::time_point start = Clock::now();
   auto reader = startLargeFrame(context);
   std::this_thread::sleep_for(std::chrono::milliseconds(int(0.35 * frameMs_)));
-  const double cancelledAtMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  const double cancelledAtMs =
+      std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   context.TryCancel();
   v1::RenderResponse message;
   while (reader->Read(&message)) {
   }
   EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::CANCELLED);
   const double serverMs = loggedMilliseconds("CANCELLED", 1)[0];
-  std::printf("cancelled after %.0f ms: the server ended the call after %.0f ms\n", cancelledAtMs, serverMs);
+  std::printf("cancelled after %.0f ms: the server ended the call after %.0f ms\n", cancelledAtMs,
+              serverMs);
   EXPECT_LT(serverMs, cancelledAtMs + kLatenessMs);
   expectIdle();
 }

@@ -39,7 +39,8 @@ TEST(FrameEncodingCancel, EveryEncoderPollsBandByBandAndStopsWhenTheTokenFires) 
   for (FrameFormat format : {FrameFormat::kPng, FrameFormat::kJpeg, FrameFormat::kExr}) {
     CountingToken never(1 << 30);
     EXPECT_FALSE(encodeFrame(image, EncodingSettings{format}, never.token()).empty());
-    EXPECT_GE(never.polls.load(), 8) << formatName(format) << ": polled once per band of rows at least";
+    EXPECT_GE(never.polls.load(), 8)
+        << formatName(format) << ": polled once per band of rows at least";
     CountingToken third(3);
     EXPECT_THROW(encodeFrame(image, EncodingSettings{format}, third.token()), OperationCancelled)
         << formatName(format);
