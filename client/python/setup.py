@@ -5,15 +5,22 @@ python3-grpc-tools bundles protoc 3.5, which refuses proto3 `optional`). protoc 
 after the proto paths (tessera.v1.mesh_pb2, grpc.health.v1.health_pb2); they are placed under
 tessera_client._proto and their imports of one another rewritten to match, so they cannot clash
 with grpcio's own `grpc` package.
+
+setuptools' scratch folders (build/, tessera_client.egg-info) go to a temporary directory removed
+when the build ends, not into the checkout `pip install client/python` is run from.
 """
+import atexit
 import os
 import re
 import shutil
 import subprocess
+import tempfile
 from pathlib import Path
 
 from setuptools import setup
+from setuptools.command.build import build
 from setuptools.command.build_py import build_py
+from setuptools.command.egg_info import egg_info
 
 HERE = Path(__file__).resolve().parent
 PROTO_ROOT = Path(os.environ.get("TESSERA_PROTO_DIR", HERE.parent.parent / "proto"))
@@ -60,4 +67,32 @@ class BuildWithStubs(build_py):
         generate_stubs(Path(self.build_lib))
 
 
-setup(cmdclass={"build_py": BuildWithStubs})
+def _scratch() -> str:
+    """One temporary folder per build process, removed when it exits."""
+    global _SCRATCH
+    if _SCRATCH is None:
+        _SCRATCH = tempfile.mkdtemp(prefix="tessera-client-build-")
+        atexit.register(shutil.rmtree, _SCRATCH, True)
+    return _SCRATCH
+
+
+_SCRATCH = None
+
+
+class BuildOutOfTree(build):
+    """build/ (and bdist's folders under it) in the scratch folder; --build-base still wins."""
+
+    def initialize_options(self):
+        super().initialize_options()
+        self.build_base = os.path.join(_scratch(), "build")
+
+
+class EggInfoOutOfTree(egg_info):
+    """The egg-info pip's wheel build writes, in the scratch folder; --egg-base still wins."""
+
+    def initialize_options(self):
+        super().initialize_options()
+        self.egg_base = _scratch()
+
+
+setup(cmdclass={"build_py": BuildWithStubs, "build": BuildOutOfTree, "egg_info": EggInfoOutOfTree})

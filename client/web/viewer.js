@@ -56,6 +56,8 @@ function resize() {
   camera.updateProjectionMatrix();
 }
 
+const noMeshesYet = 'the server has no meshes yet (POST /v1/meshes?id=ID with an OBJ body)';
+
 const vector = (v) => `${v.x},${v.y},${v.z}`;
 
 // The camera as the API's query parameters (the same view the canvas shows).
@@ -84,9 +86,17 @@ function frameTheModel(object) {
   controls.update();
 }
 
+// ?mesh=ID, if the server has it; the message says which case it is when it does not.
+function requestedMesh(id) {
+  if (state.meshes.includes(id)) return id;
+  if (state.meshes.length === 0) throw new Error(noMeshesYet);
+  const some = state.meshes.slice(0, 5).join(', ') + (state.meshes.length > 5 ? ', ...' : '');
+  throw new Error(`the server has no mesh "${id}"; it has ${state.meshes.length}: ${some}`);
+}
+
 async function loadGlb() {
   const id = $('mesh').value;
-  if (!id) throw new Error('the server has no meshes yet (POST /v1/meshes?id=ID with an OBJ body)');
+  if (!id) throw new Error(state.meshes.length === 0 ? noMeshesYet : 'choose a mesh');
   const value = $('value').value.trim();
   const accuracy = $('mode').value === 'pixel' ? `${cameraQuery()}&pixel_accuracy=${value}` : `relative=${value}`;
   report('loading', `tessellating ${id}`);
@@ -185,7 +195,7 @@ async function start() {
   animate();
   try {
     await listMeshes();
-    if (query.has('mesh')) $('mesh').value = query.get('mesh');
+    if (query.has('mesh')) $('mesh').value = requestedMesh(query.get('mesh'));
     report('ready', `${state.meshes.length} meshes`);
     if (query.has('mesh')) {
       await loadGlb();

@@ -63,8 +63,20 @@ TessellationOptions tessellationOptionsFor(const FrameRequest& request) {
   options.maxTriangles = request.maxTriangles;
   options.accuracy = request.accuracy;
   if (request.accuracy.pixelAccurate()) options.camera = request.camera;
+  options.checkpoint = request.render.checkpoint;  // planning's rings and pieces
   return options;
 }
+
+namespace {
+
+// Pieces between two checkpoints while culling and splitting: well under a millisecond of work.
+constexpr size_t kPiecesPerCheckpoint = 4096;
+
+void checkpoint(const FrameRequest& request) {
+  if (request.render.checkpoint) request.render.checkpoint();
+}
+
+}  // namespace
 
 PreparedFrame prepareFrame(const PatchSet& patches, const FrameRequest& request) {
   PreparedFrame prepared;
@@ -91,6 +103,7 @@ PreparedFrame prepareFrame(const PatchSet& patches, const FrameRequest& request)
   std::vector<uint32_t> visible;
   visible.reserve(plan.pieces.size());
   for (size_t i = 0; i < plan.pieces.size(); ++i) {
+    if (i % kPiecesPerCheckpoint == 0) checkpoint(request);
     const BezierPiece& piece = plan.pieces[i];
     stats.maxPieceLevel = std::max(stats.maxPieceLevel, piece.level);
     if (!frustum.mayShow(piece.bezier.data(), 16)) continue;
@@ -103,7 +116,9 @@ PreparedFrame prepareFrame(const PatchSet& patches, const FrameRequest& request)
   }
   stats.visiblePieces = int64_t(visible.size());
   if (request.beforeDrawing) request.beforeDrawing(stats.plannedTriangles);
-  for (uint32_t i : visible) {
+  for (size_t k = 0; k < visible.size(); ++k) {
+    if (k % kPiecesPerCheckpoint == 0) checkpoint(request);
+    const uint32_t i = visible[k];
     const BezierPiece& piece = plan.pieces[i];
     if (splitCount(piece.level) > 0) ++stats.splitPieces;
     appendRenderPatches(piece, i, prepared.patches);

@@ -112,6 +112,16 @@ void ComputePath::prepare(const SharedFrameBuffers& shared, const PatchUpload& u
   writeBufferDescriptor(device_, rasterSet_, 2, kUniform, shared.uniforms.handle());
 }
 
+VkDeviceSize ComputePath::geometryBytes() const {
+  return vertices_.size() + indices_.size() + draws_.size();
+}
+
+void ComputePath::releaseGeometry() {
+  vertices_ = GpuBuffer();
+  indices_ = GpuBuffer();
+  draws_ = GpuBuffer();
+}
+
 void ComputePath::record(VkCommandBuffer cmd, const PatchUpload& upload,
                          const RenderTargets& targets, const std::array<float, 4>& background,
                          StageClock& clock) const {
@@ -127,14 +137,17 @@ void ComputePath::record(VkCommandBuffer cmd, const PatchUpload& upload,
     clock.enter(Stage::kTessellation);
     recordTessellation(cmd, batch, true);
     memoryBarrier(cmd, kTessellationWrites, kRasterReads);
-    clock.enter(Stage::kRaster);
-
-    targets.beginRendering(cmd, b == 0, background);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterPipeline_);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterLayout_, 0, 1, &rasterSet_,
-                            0, nullptr);
-    vkCmdDrawIndirect(cmd, draws_.handle(), 0, batch.patchCount, static_cast<uint32_t>(kDrawBytes));
-    targets.endRendering(cmd);
+    // Band by band (one band up to 8 M pixels): each draws the whole batch, scissored to its rows.
+    for (const RenderTargets::RowBand& band : targets.bands()) {
+      clock.enter(Stage::kRaster);
+      targets.beginRendering(cmd, b == 0, background, band);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterPipeline_);
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, rasterLayout_, 0, 1,
+                              &rasterSet_, 0, nullptr);
+      vkCmdDrawIndirect(cmd, draws_.handle(), 0, batch.patchCount,
+                        static_cast<uint32_t>(kDrawBytes));
+      targets.endRendering(cmd);
+    }
   }
 }
 

@@ -44,6 +44,11 @@ class ComputePath {
   void record(VkCommandBuffer cmd, const PatchUpload& upload, const RenderTargets& targets,
               const std::array<float, 4>& background, StageClock& clock) const;
 
+  // The geometry buffers, which grow with the largest batch drawn (up to 512 MiB each): what
+  // they hold, and freeing them (the next prepare() makes them again).
+  VkDeviceSize geometryBytes() const;
+  void releaseGeometry();
+
  private:
   const VulkanContext& context_;
   VkDevice device_;

@@ -36,7 +36,9 @@ CrackFillPass::CrackFillPass(const VulkanContext& context) : device_(context.dev
                                          {5, kStorageImage, kCompute},
                                          {6, kStorageImage, kCompute}});
   layout_ = createPipelineLayout(device_, setLayout_, sizeof(Params), kCompute);
-  pipeline_ = createComputePipeline(device_, layout_, ShaderId::kCrackFillComp);
+  // Dispatched band by band from a base workgroup (vkCmdDispatchBase).
+  pipeline_ = createComputePipeline(device_, layout_, ShaderId::kCrackFillComp,
+                                    VK_PIPELINE_CREATE_DISPATCH_BASE_BIT);
   pool_ = createPool(device_, 1, {kSampled, kStorageImage}, 4);
   set_ = allocateSet(device_, pool_, setLayout_);
 }
@@ -64,13 +66,20 @@ void CrackFillPass::bind(const RenderTargets& targets) {
                        VK_NULL_HANDLE);
 }
 
-void CrackFillPass::record(VkCommandBuffer cmd, const RenderTargets& targets) const {
+void CrackFillPass::record(VkCommandBuffer cmd, const RenderTargets& targets,
+                           StageClock& clock) const {
   Params params{static_cast<int32_t>(targets.width()), static_cast<int32_t>(targets.height())};
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
-  vkCmdPushConstants(cmd, layout_, kCompute, 0, sizeof(params), &params);
-  vkCmdDispatch(cmd, (targets.width() + kTile - 1) / kTile, (targets.height() + kTile - 1) / kTile,
-                1);
+  const std::vector<RenderTargets::RowBand> bands =
+      targets.bands(RenderTargets::kCrackFillBandPixels);
+  for (size_t k = 0; k < bands.size(); ++k) {
+    if (k > 0) clock.enter(Stage::kCrackFilling);  // a new command buffer: bind again
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
+    vkCmdPushConstants(cmd, layout_, kCompute, 0, sizeof(params), &params);
+    // Bands start on a workgroup row (RenderTargets::bands keeps them multiples of kTile rows).
+    vkCmdDispatchBase(cmd, 0, bands[k].first / kTile, 0, (targets.width() + kTile - 1) / kTile,
+                      (bands[k].count + kTile - 1) / kTile, 1);
+  }
 }
 
 }  // namespace tessera::gpu

@@ -19,8 +19,10 @@ class CrackFillPass {
 
   // Points the descriptors at `targets` (when they were re-created).
   void bind(const RenderTargets& targets);
-  // Targets must be in the layouts RenderTargets::toCrackFill leaves them in.
-  void record(VkCommandBuffer cmd, const RenderTargets& targets) const;
+  // Targets must be in the layouts RenderTargets::toCrackFill leaves them in. One dispatch per
+  // row band (RenderTargets::bands(kCrackFillBandPixels)), each after the first in a stage of its
+  // own (`clock`).
+  void record(VkCommandBuffer cmd, const RenderTargets& targets, StageClock& clock) const;
 
  private:
   VkDevice device_;

@@ -119,6 +119,7 @@ void GpuBuffer::release() {
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
+  size_ = 0;
 }
 
 GpuImage::GpuImage(const VulkanContext& context, VkFormat format, uint32_t width, uint32_t height,
@@ -140,6 +141,7 @@ GpuImage::GpuImage(const VulkanContext& context, VkFormat format, uint32_t width
     VkMemoryRequirements req;
     vkGetImageMemoryRequirements(device_, image_, &req);
     memory_ = allocate(context, req, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, nullptr);
+    size_ = req.size;
     vkCheck(vkBindImageMemory(device_, image_, memory_, 0), "vkBindImageMemory");
     VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
     view.image = image_;
@@ -170,6 +172,7 @@ GpuImage& GpuImage::operator=(GpuImage&& other) noexcept {
     memory_ = std::exchange(other.memory_, VK_NULL_HANDLE);
     format_ = other.format_;
     aspect_ = other.aspect_;
+    size_ = std::exchange(other.size_, 0);
   }
   return *this;
 }
@@ -182,6 +185,7 @@ void GpuImage::release() {
   view_ = VK_NULL_HANDLE;
   image_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
+  size_ = 0;
 }
 
 }  // namespace tessera::gpu

@@ -56,6 +56,7 @@ class GpuImage {
   VkImageView view() const { return view_; }
   VkFormat format() const { return format_; }
   VkImageAspectFlags aspect() const { return aspect_; }
+  VkDeviceSize size() const { return size_; }  // of its memory; 0 when empty
 
  private:
   void release();
@@ -65,6 +66,7 @@ class GpuImage {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkFormat format_ = VK_FORMAT_UNDEFINED;
   VkImageAspectFlags aspect_ = 0;
+  VkDeviceSize size_ = 0;
 };
 
 }  // namespace tessera::gpu

@@ -54,9 +54,11 @@ VkDescriptorSet allocateSet(VkDevice device, VkDescriptorPool pool, VkDescriptor
   return set;
 }
 
-VkPipeline createComputePipeline(VkDevice device, VkPipelineLayout layout, ShaderId shader) {
+VkPipeline createComputePipeline(VkDevice device, VkPipelineLayout layout, ShaderId shader,
+                                 VkPipelineCreateFlags flags) {
   VkShaderModule module = createShaderModule(device, shader);
   VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.flags = flags;
   info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   info.stage.module = module;

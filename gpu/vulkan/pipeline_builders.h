@@ -28,7 +28,8 @@ VkDescriptorPool createPool(VkDevice device, uint32_t sets,
                             std::initializer_list<VkDescriptorType> types, uint32_t perType);
 VkDescriptorSet allocateSet(VkDevice device, VkDescriptorPool pool, VkDescriptorSetLayout layout);
 
-VkPipeline createComputePipeline(VkDevice device, VkPipelineLayout layout, ShaderId shader);
+VkPipeline createComputePipeline(VkDevice device, VkPipelineLayout layout, ShaderId shader,
+                                 VkPipelineCreateFlags flags = 0);
 
 // The raster targets' formats, in attachment order, for dynamic rendering.
 struct AttachmentFormats {

@@ -1,5 +1,6 @@
 #include "gpu/vulkan/render_targets.h"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -104,8 +105,23 @@ void RenderTargets::toAttachments(VkCommandBuffer cmd) const {
                VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, kTransferRead, kDepthWrite);
 }
 
+std::vector<RenderTargets::RowBand> RenderTargets::bands(uint32_t bandPixels) const {
+  constexpr uint32_t kRowAlignment = 8;  // crack_fill.comp's workgroup height
+  const uint32_t rows =
+      std::max(kRowAlignment, (bandPixels / width_) / kRowAlignment * kRowAlignment);
+  std::vector<RowBand> out;
+  for (uint32_t first = 0; first < height_; first += rows)
+    out.push_back({first, std::min(rows, height_ - first)});
+  return out;
+}
+
 void RenderTargets::beginRendering(VkCommandBuffer cmd, bool clear,
                                    const std::array<float, 4>& background) const {
+  beginRendering(cmd, clear, background, RowBand{0, height_});
+}
+
+void RenderTargets::beginRendering(VkCommandBuffer cmd, bool clear,
+                                   const std::array<float, 4>& background, RowBand band) const {
   VkRenderingAttachmentInfo colors[3]{};
   const GpuImage* images[3] = {&color_, &patchId_, &depthRange_};
   VkClearValue clears[3]{};
@@ -129,14 +145,14 @@ void RenderTargets::beginRendering(VkCommandBuffer cmd, bool clear,
   depth.clearValue.depthStencil = {1.0f, 0};
 
   VkRenderingInfo info{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  info.renderArea = {{0, 0}, {width_, height_}};
+  info.renderArea = {{0, int32_t(band.first)}, {width_, band.count}};
   info.layerCount = 1;
   info.colorAttachmentCount = 3;
   info.pColorAttachments = colors;
   info.pDepthAttachment = &depth;
   vkCmdBeginRendering(cmd, &info);
   VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {width_, height_}};
+  VkRect2D scissor{{0, int32_t(band.first)}, {width_, band.count}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
   vkCmdSetScissor(cmd, 0, 1, &scissor);
 }
@@ -158,7 +174,8 @@ void RenderTargets::toCrackFill(VkCommandBuffer cmd) const {
   }
 }
 
-void RenderTargets::recordReadback(VkCommandBuffer cmd, bool fromCrackFill) const {
+void RenderTargets::recordReadback(VkCommandBuffer cmd, bool fromCrackFill, bool patchIds,
+                                   StageClock& clock) const {
   const GpuImage& color = fromCrackFill ? filledColor_ : color_;
   const GpuImage& patchId = fromCrackFill ? filledPatchId_ : patchId_;
   const GpuImage& depth = fromCrackFill ? filledDepth_ : depth_;
@@ -175,25 +192,56 @@ void RenderTargets::recordReadback(VkCommandBuffer cmd, bool fromCrackFill) cons
     imageBarrier(cmd, depth.handle(), kDepthAspect, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                  VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, kDepthWrite, kTransferRead);
   }
+  const bool split = bands().size() > 1;
   copyImage(cmd, color, colorReadback_, width_, height_);
-  copyImage(cmd, patchId, patchIdReadback_, width_, height_);
+  if (split) clock.enter(Stage::kReadback);
   copyImage(cmd, depth, depthReadback_, width_, height_);
+  if (patchIds) {
+    if (split) clock.enter(Stage::kReadback);
+    copyImage(cmd, patchId, patchIdReadback_, width_, height_);
+  }
   memoryBarrier(cmd, kTransferWrite, kHostRead);
 }
 
-void RenderTargets::copyTo(Frame& frame) const {
+VkDeviceSize RenderTargets::bytes() const {
+  VkDeviceSize total = colorReadback_.size() + patchIdReadback_.size() + depthReadback_.size();
+  for (const GpuImage* image :
+       {&color_, &patchId_, &depthRange_, &depth_, &filledColor_, &filledPatchId_, &filledDepth_}) {
+    total += image->size();
+  }
+  return total;
+}
+
+namespace {
+
+// memcpy in slices, polling between them.
+void copyInSlices(void* to, const void* from, size_t bytes,
+                  const std::function<void()>& checkpoint) {
+  constexpr size_t kSlice = 64 << 20;
+  for (size_t offset = 0; offset < bytes; offset += kSlice) {
+    if (checkpoint) checkpoint();
+    std::memcpy(static_cast<uint8_t*>(to) + offset, static_cast<const uint8_t*>(from) + offset,
+                std::min(kSlice, bytes - offset));
+  }
+}
+
+}  // namespace
+
+void RenderTargets::copyTo(Frame& frame, bool patchIds,
+                           const std::function<void()>& checkpoint) const {
   size_t pixels = size_t(width_) * height_;
   frame.width = width_;
   frame.height = height_;
-  frame.rgba.resize(pixels * 4);
-  frame.patchIds.resize(pixels);
-  frame.depth.resize(pixels);
   colorReadback_.invalidate();
-  patchIdReadback_.invalidate();
   depthReadback_.invalidate();
-  std::memcpy(frame.rgba.data(), colorReadback_.mapped(), pixels * 4);
-  std::memcpy(frame.patchIds.data(), patchIdReadback_.mapped(), pixels * 4);
-  std::memcpy(frame.depth.data(), depthReadback_.mapped(), pixels * 4);
+  frame.rgba.resize(pixels * 4);
+  copyInSlices(frame.rgba.data(), colorReadback_.mapped(), pixels * 4, checkpoint);
+  frame.depth.resize(pixels);
+  copyInSlices(frame.depth.data(), depthReadback_.mapped(), pixels * 4, checkpoint);
+  if (!patchIds) return;
+  patchIdReadback_.invalidate();
+  frame.patchIds.resize(pixels);
+  copyInSlices(frame.patchIds.data(), patchIdReadback_.mapped(), pixels * 4, checkpoint);
 }
 
 }  // namespace tessera::gpu

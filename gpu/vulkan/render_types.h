@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/base/vec3.h"
@@ -66,6 +67,14 @@ struct RenderOptions {
   uint64_t maxBatchTriangles = 0;
   Light light;
   Material material;
+  // Read the patch ids back into Frame::patchIds (tests and tools need them; a server sending
+  // images does not, and an 8192 x 8192 frame's are 256 MiB more to copy and hold).
+  bool readPatchIds = true;
+  // Called between a frame's stages (FrameEngine's planning, every GPU submission: on CPU
+  // devices each stage is one, the readback); a caller that wants the frame abandoned (its
+  // call cancelled or past its deadline) throws from it, and the exception leaves render() with
+  // the renderer ready for its next frame. Null: never asked.
+  std::function<void()> checkpoint;
 };
 
 // Milliseconds per stage. On GPUs they come from timestamp queries; on CPU implementations

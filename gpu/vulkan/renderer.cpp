@@ -154,6 +154,19 @@ bool Renderer::hasMeshShaders() const {
   return impl_->meshPath != nullptr;
 }
 
+uint64_t Renderer::frameMemoryBytes() const {
+  const Impl& s = *impl_;
+  return (s.targets ? s.targets->bytes() : 0) + s.computePath->geometryBytes() +
+         s.shared.patches.size();
+}
+
+void Renderer::releaseFrameMemory() {
+  Impl& s = *impl_;
+  s.targets.reset();  // the crack filler's descriptors are bound again with the next targets
+  s.computePath->releaseGeometry();
+  s.shared.patches = GpuBuffer();
+}
+
 std::vector<std::string> Renderer::takeValidationMessages() {
   return impl_->context->takeValidationMessages();
 }
@@ -176,17 +189,22 @@ Frame Renderer::render(std::span<const RenderPatch> patches, const Camera& camer
   s.ensureTargets(camera.width, camera.height);
   s.uploadShared(upload, makeFrameUniforms(camera, vp, options));
 
-  // Stages: setup, then tessellation + raster per batch, crack filling, readback.
-  s.clock->begin(2 * static_cast<uint32_t>(upload.batches.size()) + 3);
+  if (options.checkpoint) options.checkpoint();
+  // Stages: setup; per batch tessellation and a raster per band; crack filling per band; readback.
+  const uint32_t bands = static_cast<uint32_t>(s.targets->bands().size());
+  const uint32_t fillBands =
+      static_cast<uint32_t>(s.targets->bands(RenderTargets::kCrackFillBandPixels).size());
+  s.clock->begin(static_cast<uint32_t>(upload.batches.size()) * (1 + bands) + fillBands + 4,
+                 options.checkpoint);
   s.targets->toAttachments(s.cmd);
   s.recordGeometry(path, upload, options);
   if (options.crackFilling) {
     s.clock->enter(Stage::kCrackFilling);
     s.targets->toCrackFill(s.cmd);
-    s.crackFill->record(s.cmd, *s.targets);
+    s.crackFill->record(s.cmd, *s.targets, *s.clock);
   }
   s.clock->enter(Stage::kReadback);
-  s.targets->recordReadback(s.cmd, options.crackFilling);
+  s.targets->recordReadback(s.cmd, options.crackFilling, options.readPatchIds, *s.clock);
   Frame frame;
   s.clock->finish(frame.timings);
 
@@ -197,7 +215,7 @@ Frame Renderer::render(std::span<const RenderPatch> patches, const Camera& camer
   std::memcpy(&stats, s.shared.stats.mapped(), sizeof(stats));
   frame.patchesCulled = stats.culledPatches;
   frame.trianglesGenerated = stats.triangles;
-  s.targets->copyTo(frame);
+  s.targets->copyTo(frame, options.readPatchIds, options.checkpoint);
   frame.timings.hostTotalMs = millisecondsSince(hostStart);
   return frame;
 }

@@ -44,6 +44,14 @@ class Renderer {
   // and for checking watertightness directly.
   TessellatedMesh tessellate(std::span<const RenderPatch> patches, uint32_t uniformLevel = 0);
 
+  // What the renderer keeps from its frames for the next one: the render targets (sized by the
+  // last frame's pixels, 44 bytes a pixel on lavapipe), the geometry buffers (by its largest
+  // batch) and the patch buffer. releaseFrameMemory() frees them; the next frame makes them again.
+  // A server calls it after a large frame, so one 8192 x 8192 frame does not hold ~3 GB until
+  // the next one (server/render/render_vulkan_backend.cpp).
+  uint64_t frameMemoryBytes() const;
+  void releaseFrameMemory();
+
   // Validation-layer messages since the last call; empty unless validation was requested and
   // the layer is installed.
   std::vector<std::string> takeValidationMessages();

@@ -1,5 +1,7 @@
 #include "gpu/vulkan/stage_clock.h"
 
+#include <utility>
+
 #include "gpu/vulkan/vulkan_context.h"
 #include "gpu/vulkan/vulkan_error.h"
 
@@ -85,7 +87,8 @@ void StageClock::submitAndWait() {
   vkCheck(waited, "vkWaitForFences");
 }
 
-void StageClock::begin(uint32_t maxStages) {
+void StageClock::begin(uint32_t maxStages, std::function<void()> checkpoint) {
+  checkpoint_ = std::move(checkpoint);
   marks_.clear();
   hostMs_.fill(0.0);
   submittedMs_ = 0.0;
@@ -111,6 +114,8 @@ void StageClock::enter(Stage stage) {
   submitAndWait();
   hostMs_[size_t(current_)] += millisecondsSince(start);
   submittedMs_ += millisecondsSince(start);
+  // Nothing is pending: a throw here leaves the command buffer for the next begin() to reset.
+  if (checkpoint_) checkpoint_();
   current_ = stage;
   beginCommands();
 }

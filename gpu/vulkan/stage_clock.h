@@ -11,6 +11,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "gpu/vulkan/render_types.h"
@@ -30,8 +31,9 @@ class StageClock {
 
   bool usesTimestamps() const { return useTimestamps_; }
 
-  // Starts recording a frame (stage kSetup); `maxStages` bounds the enter() calls.
-  void begin(uint32_t maxStages);
+  // Starts recording a frame (stage kSetup); `maxStages` bounds the enter() calls. `checkpoint`
+  // (may be null) runs after each submission has completed and may throw to abandon the frame.
+  void begin(uint32_t maxStages, std::function<void()> checkpoint = {});
   void enter(Stage stage);
   // Ends recording, submits, waits for completion and fills the stage fields of `timings`.
   void finish(StageTimings& timings);
@@ -51,6 +53,7 @@ class StageClock {
   VkQueryPool pool_ = VK_NULL_HANDLE;
   uint32_t capacity_ = 0;
   std::vector<Stage> marks_;  // the stage that starts at each timestamp
+  std::function<void()> checkpoint_;
   Stage current_ = Stage::kSetup;
   std::array<double, size_t(Stage::kCount)> hostMs_{};
   std::chrono::steady_clock::time_point sectionStart_;

@@ -250,6 +250,7 @@ void tessellation(const HttpFrontDoor::Services& s, const httplib::Request& requ
   response.set_header("ETag", tag);
   response.set_header("Cache-Control", "no-cache");
   if (request.has_header("If-None-Match") && matchesEntityTag(request.get_header_value("If-None-Match"), tag)) {
+    copyRequestId(*lookup, response);  // the GetMesh that answered it is the request's one call
     response.status = 304;
     return;
   }

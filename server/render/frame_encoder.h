@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "server/calls/cancellation.h"
+
 namespace tessera::server {
 
 inline constexpr int kDefaultJpegQuality = 90;
@@ -31,8 +33,10 @@ struct FrameImage {
 // PNG: RGBA8. JPEG: RGB8 (alpha dropped) at jpegQuality. EXR: R, G, B, A as half (the 8-bit
 // values / 255) and, when depth is given, Z as float. RAW_RGBA: the rgba bytes unchanged.
 // Throws std::invalid_argument for buffers that do not match the size, std::runtime_error
-// when the encoder fails.
-std::vector<uint8_t> encodeFrame(const FrameImage& image, const EncodingSettings& settings);
+// when the encoder fails, OperationCancelled when `cancel` fires while it works (polled as
+// OpenImageIO reports progress, a few times a second on an 8192 x 8192 PNG).
+std::vector<uint8_t> encodeFrame(const FrameImage& image, const EncodingSettings& settings,
+                                 const CancellationToken& cancel = {});
 
 // "png", "jpeg", "exr", "raw".
 const char* formatName(FrameFormat format);

@@ -103,9 +103,10 @@ class RenderBackend {
   virtual int64_t frameBytes(int width, int height) const = 0;
 
   // Draws job's camera of mesh (validated). Called concurrently; implementations
-  // serialize device access themselves. Polls cancel between stages and while waiting for the
-  // device (OperationCancelled). Throws TesseraError for bad or unsupported input and exceeded
-  // budgets, RenderUnavailable, RenderLimitExceeded, or another std::exception for failures.
+  // serialize device access themselves. Polls cancel in every stage (planning, each device
+  // submission, the copy out) and while waiting for the device (OperationCancelled). Throws
+  // TesseraError for bad or unsupported input and exceeded budgets, RenderUnavailable,
+  // RenderLimitExceeded, or another std::exception for failures.
   virtual RenderedFrame render(const ControlMesh& mesh, const FrameJob& job,
                                const CancellationToken& cancel) = 0;
 };

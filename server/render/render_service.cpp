@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "core/base/error.h"
-#include "core/base/sha256.h"
 #include "server/calls/accuracy_limits.h"
 #include "server/calls/call_guard.h"
 #include "server/calls/memory_release.h"
 #include "server/calls/status_error.h"
 #include "server/meshes/mesh_names.h"
+#include "server/render/frame_digest.h"
 #include "server/render/render_request.h"
 #include "server/render/render_session.h"
 
@@ -235,12 +235,12 @@ RenderServiceImpl::EncodedFrame RenderServiceImpl::makeFrame(MeshHandle& mesh, c
     out.bytes = std::move(frame.rgba);  // the raw format is the buffer itself: no copy
   } else {
     out.bytes =
-        encodeFrame(FrameImage{frame.width, frame.height, frame.rgba, frame.depth}, encoding);
+        encodeFrame(FrameImage{frame.width, frame.height, frame.rgba, frame.depth}, encoding, cancel);
+    cancel.throwIfCancelled();
   }
   fillHeader(frame, encoding.format, admissionMs, millisecondsSince(encodeStart), out.header);
   out.header.set_image_bytes(int64_t(out.bytes.size()));
-  out.header.set_image_sha256(sha256Hex(
-      std::string_view(reinterpret_cast<const char*>(out.bytes.data()), out.bytes.size())));
+  out.header.set_image_sha256(frameSha256Hex(out.bytes, cancel));
   return out;
 }
 

@@ -33,6 +33,12 @@ constexpr int64_t kFrameBytesPerPixel = 72;  // 67 measured in all at 4096 x 409
 constexpr int64_t kFrameBaseBytes = 16 << 20;
 constexpr int64_t kDrawnBytesPerTriangle = 32;
 
+// What the renderer may keep from a frame for the next one (its render targets, geometry and
+// patch buffers): a 1920 x 1080 frame's targets (91 MB on lavapipe) stay for the viewer's next
+// frame of that size; a larger frame's are freed as soon as it is read back. Kept, one
+// 8192 x 8192 frame held ~2.9 GB until the next frame (issue 47, bench/MEMORY-RESULTS.md).
+constexpr uint64_t kKeptFrameBytes = 128ull << 20;
+
 // FrameEngine's request for a job: default background, light, material and geometry path.
 // The camera in the frame of the mesh's positions (relative to its origin).
 gpu::FrameRequest frameRequestFor(const FrameJob& job, const Vec3d& origin) {
@@ -45,7 +51,16 @@ gpu::FrameRequest frameRequestFor(const FrameJob& job, const Vec3d& origin) {
   request.eta = s.eta;
   if (s.maxTriangles > 0) request.maxTriangles = s.maxTriangles;
   request.render.crackFilling = s.crackFilling;
+  request.render.readPatchIds = false;  // the service sends colour (and depth, for EXR) only
   return request;
+}
+
+// Frees what the renderer kept of a frame too large to keep (the device's lock is held).
+void releaseLargeFrame(gpu::Renderer& renderer) {
+  const uint64_t held = renderer.frameMemoryBytes();
+  if (held <= kKeptFrameBytes) return;
+  renderer.releaseFrameMemory();
+  spdlog::debug("render: freed {:.0f} MiB of frame buffers", double(held) / (1 << 20));
 }
 
 }  // namespace
@@ -137,6 +152,14 @@ gpu::FrameEngine& VulkanRenderBackend::engineLocked() {
 
 gpu::Frame VulkanRenderBackend::drawLocked(const gpu::PreparedFrame& prepared) {
   gpu::FrameEngine& engine = engineLocked();
+  // Freed however the frame ends: a cancelled 8192 x 8192 frame holds as much as a finished one.
+  // (A lost device has been dropped by then: nothing left to free.)
+  struct Release {
+    std::optional<gpu::FrameEngine>& engine;
+    ~Release() {
+      if (engine) releaseLargeFrame(engine->renderer());
+    }
+  } release{engine_};
   try {
     return engine.renderer().render(prepared.patches, prepared.camera, prepared.options);
   } catch (const gpu::VulkanError& error) {
@@ -160,6 +183,7 @@ RenderedFrame VulkanRenderBackend::render(const ControlMesh& mesh, const FrameJo
   std::shared_ptr<const PatchSet> patches = patches_.get(mesh, job.meshSha256, cancel, job.memory);
   cancel.throwIfCancelled();
   gpu::FrameRequest request = frameRequestFor(job, mesh.origin);
+  request.render.checkpoint = [&cancel] { cancel.throwIfCancelled(); };  // planning and each GPU stage
   if (job.memory) {
     request.beforeDrawing = [&job](int64_t triangles) {
       job.memory->reserve(kDrawnBytesPerTriangle * triangles,

@@ -3,8 +3,8 @@ Subdivision modifier goes to a real tessera-server through the add-on as a user 
 back as a new object beside it (triangles as the server counted them, UVs, custom normals, sharp
 creases, the cage's transform), a failing request leaves that object as it was and reports the
 server's message, pixel accuracy follows the scene camera, an edit that moves vertices takes the
-server's topology-reuse path (its /metrics), and the edited cage and the result are written (Y-up,
-as sent) for tessera-limit-check.
+server's topology-reuse path (its /metrics), a meshopt GLB is decoded by the add-on, and the edited
+cage and the result (decoded from meshopt) are written (Y-up, as sent) for tessera-limit-check.
 Arguments after "--": OUT_DIR SERVER_BINARY."""
 import os
 import subprocess
@@ -91,7 +91,8 @@ def main():
         addon_utils.enable("tessera_subdiv", default_set=True)
         import tessera_subdiv
         from tessera_subdiv.cage import read_cage, to_y_up
-        bpy.context.preferences.addons["tessera_subdiv"].preferences.server = address
+        preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
+        preferences.server = address
         cube = creased_cube()
         cage = read_cage(cube)
         assert len(cage.creases) == 5 and cage.corners and cage.uv_indices and cage.uv_interpolation == UV_RULE[1], cage
@@ -153,8 +154,21 @@ def main():
         assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
         assert metric(metrics_address, "tessera_topology_cache_hits_total") == hits + 1
         assert metric(metrics_address, "tessera_topology_cache_misses_total") == built
-        # The result is measured below against OpenSubdiv's limit surface of this edited cage.
-        mesh = bpy.data.objects["Cage_tessera"].data
+        result = bpy.data.objects["Cage_tessera"]
+        assert result["tessera_encoding"] == "float", "a loopback server is asked for float GLBs"
+        float_bytes = result["tessera_glb_bytes"]
+
+        # The same request as a meshopt GLB, decoded by the add-on: the result measured below against
+        # OpenSubdiv's limit surface of the edited cage.
+        preferences.encoding = "MESHOPT"
+        assert bpy.ops.object.tessera_tessellate() == {"FINISHED"}
+        result = bpy.data.objects["Cage_tessera"]
+        mesh = result.data
+        assert result["tessera_encoding"] == "meshopt"
+        assert len(mesh.polygons) == result["tessera_triangles"], (len(mesh.polygons), result["tessera_triangles"])
+        assert mesh.uv_layers.active is not None and any(e.use_edge_sharp for e in mesh.edges)
+        print(f"GLB bytes: float {float_bytes}, meshopt {result['tessera_glb_bytes']}")
+        assert result["tessera_glb_bytes"] < 0.6 * float_bytes
 
         # The cage as sent and the result in the same (Y-up) frame, for tessera-limit-check.
         faces, offset = [], 0

@@ -16,7 +16,8 @@ from pathlib import Path
 import grpc
 import numpy as np
 
-from tessera_client import Camera, IntegrityError, TesseraClient, TesseraError, canonical_sha256
+from tessera_client import (Camera, IntegrityError, InvalidArgumentError, TesseraClient, TesseraError, canonical_sha256,
+                            mesh_id)
 from tessera_client._proto.tessera.v1 import mesh_pb2
 
 SERVER = os.environ["TESSERA_SERVER_BINARY"]
@@ -173,6 +174,39 @@ class ClientTest(unittest.TestCase):
             self.client.upload_obj("broken", b"v 0 0 0\nf 1 2 3\n")
         self.assertEqual(obj.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
         self.assertEqual(obj.exception.retries, 0)
+
+    def test_two_tolerances_are_refused_before_anything_is_sent(self):
+        # The request's tolerance is a oneof: the second field set would silently win (HTTP refuses
+        # the same request with 400). The mesh does not exist: refused here, never asked.
+        camera = Camera(eye=(0, 0, 6), target=(0, 0, 0))
+        for kwargs in ({"relative": 1e-3, "absolute": 1e-3}, {"relative": 1e-3, "camera": camera},
+                       {"absolute": 1e-3, "camera": camera}, {"relative": 1e-3, "pixel_accuracy": 1.0}):
+            with self.assertRaises(InvalidArgumentError) as both:
+                self.client.tessellate("never-uploaded", **kwargs)
+            self.assertEqual(both.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIsInstance(both.exception, ValueError)
+        with self.assertRaises(InvalidArgumentError) as named:
+            self.client.tessellate("never-uploaded", relative=1e-3, absolute=1e-3)
+        self.assertIn("relative and absolute", named.exception.message)
+        with self.assertRaises(InvalidArgumentError):
+            self.client.render("never-uploaded", [camera], pixel_accuracy=1.0, uniform_level=2)
+
+    def test_names_from_list_meshes_are_accepted_everywhere(self):
+        self.client.upload_obj("meshes/box-names", SAMPLE)  # a name works as the id of an upload
+        listed = next(m for m in self.client.list_meshes() if m.name == "meshes/box-names")
+        self.assertEqual(mesh_id(listed), "box-names")
+        for ref in ("box-names", "meshes/box-names", listed):
+            self.assertEqual(self.client.get_mesh(ref).name, "meshes/box-names")
+            self.assertGreater(self.client.tessellate(ref, relative=1e-2).summary.triangles, 0)
+        try:
+            frames = self.client.render(listed.name, [Camera(eye=(4, 3, 5), target=(0, 0, 0), width=32, height=32)])
+            self.assertEqual(len(frames), 1)
+        except TesseraError as error:
+            self.assertEqual(error.code, grpc.StatusCode.UNIMPLEMENTED)  # a build that renders nothing
+        self.client.delete_mesh(listed.name)
+        with self.assertRaises(TesseraError) as gone:
+            self.client.get_mesh("box-names")
+        self.assertEqual(gone.exception.code, grpc.StatusCode.NOT_FOUND)
 
     def test_render_frames_match_their_headers(self):
         self.client.upload_obj("box-render", SAMPLE)

@@ -109,11 +109,17 @@ TEST_F(HttpFrontDoor, TheGlbIsTheGrpcOneWithAStrongEtagAndConditionalGet) {
   ASSERT_TRUE(reference.status.ok()) << reference.status.error_message();
   EXPECT_EQ(glb->body, reference.glb) << "the front door streams exactly the GLB gRPC does";
 
-  auto cached = http_->Get(query.c_str(), {{"If-None-Match", tag}});
+  auto cached = http_->Get(query.c_str(), {{"If-None-Match", tag}, {"X-Request-Id", "conditional-7"}});
   ASSERT_TRUE(cached);
   EXPECT_EQ(cached->status, 304);
   EXPECT_TRUE(cached->body.empty());
   EXPECT_EQ(cached->get_header_value("ETag"), tag);
+  // A 304 is an answer like any other: the client's id comes back, or the one the server made.
+  EXPECT_EQ(cached->get_header_value("X-Request-Id"), "conditional-7");
+  auto unnamed = http_->Get(query.c_str(), {{"If-None-Match", tag}});
+  ASSERT_TRUE(unnamed);
+  EXPECT_EQ(unnamed->status, 304);
+  EXPECT_FALSE(unnamed->get_header_value("X-Request-Id").empty()) << "the server's own request id";
 
   // Another request, another tag; the same request again, the same tag.
   auto coarser = http_->Get("/v1/meshes/bigguy/tessellation.glb?relative=1e-2&encoding=meshopt",

@@ -1,7 +1,8 @@
 // The web viewer (client/web) in real headless Chromium (Debian's, driven by puppeteer-core)
-// against the real tessera-server on loopback: the page loads without console errors, the GLB
-// renders (a screenshot whose silhouette covers a plausible share of the view), and in server-frame
-// mode a new frame from the server arrives after the camera moves.
+// against the real tessera-server on loopback: a mesh the server lacks is named as missing (not
+// "no meshes yet"), the page loads without console errors, the GLB renders (a screenshot whose
+// silhouette covers a plausible share of the view), and in server-frame mode a new frame from the
+// server arrives after the camera moves.
 // Usage: node viewer_test.mjs SERVER_BINARY SAMPLE_OBJ WORK_DIR
 import { spawn } from 'node:child_process';
 import { existsSync, mkdirSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -72,6 +73,14 @@ async function main() {
     page.on('console', (message) => message.type() === 'error' && errors.push(message.text()));
     page.on('pageerror', (error) => errors.push(String(error)));
     page.on('requestfailed', (request) => errors.push(`request failed: ${request.url()}`));
+
+    // A mesh the server does not have, while it has others: say so, and name some it has.
+    await page.goto(`${base}/?mesh=no-such-mesh&relative=1e-3`);
+    await page.waitForFunction(() => ['loaded', 'error'].includes(document.body.dataset.state), { timeout: 60000 });
+    const missing = await page.evaluate(() => window.tesseraViewer.lastError);
+    if (!missing.includes('no mesh "no-such-mesh"') || !missing.includes('box')) {
+      fail(`a missing mesh reported as: ${missing}`);
+    }
 
     await page.goto(`${base}/?mesh=box&relative=1e-3`);
     await page.waitForFunction(() => ['loaded', 'error'].includes(document.body.dataset.state), { timeout: 60000 });

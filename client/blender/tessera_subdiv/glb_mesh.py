@@ -1,16 +1,41 @@
-"""A float-encoded Tessera GLB as a Blender mesh, read without Blender's glTF importer (Debian's
-Blender 3.4 one fails on NumPy 1.24): vertices that the GLB repeats for a crease or a UV seam are
-welded back into one Blender vertex by their bit-identical positions, and what made them differ
-is kept per face corner (custom split normals, UVs); edges where the two sides' normals differ
-are marked sharp."""
+"""A Tessera GLB (float, quantized or meshopt, docs/GLB.md) as a Blender mesh, read without
+Blender's glTF importer (Debian's Blender 3.4 one fails on NumPy 1.24): meshopt views are decoded
+by meshopt_decode.py, quantized positions and normals scaled back to floats, then vertices that
+the GLB repeats for a crease or a UV seam are welded back into one Blender vertex by their
+bit-identical positions, and what made them differ is kept per face corner (custom split normals,
+UVs); edges where the two sides' normals differ are marked sharp."""
 import json
 import struct
 
 import numpy as np
 
+from .meshopt_decode import decode_view
 
-_COMPONENTS = {5123: np.uint16, 5125: np.uint32, 5126: np.float32}
+_COMPONENTS = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32, 5126: np.float32}
 _WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3}
+# What this reader understands; anything else a file requires is refused by name.
+_UNDERSTOOD = {"KHR_mesh_quantization", "EXT_meshopt_compression"}
+_MESHOPT = "EXT_meshopt_compression"
+
+
+def _normalized(values: np.ndarray) -> np.ndarray:
+    """glTF's normalized signed integers as floats: c / max, at least -1."""
+    return np.maximum(values.astype(np.float64) / np.iinfo(values.dtype).max, -1.0)
+
+
+def _view_bytes(document: dict, view_index: int, glb: bytes, bin_at: int, decoded: dict) -> tuple:
+    """A bufferView's bytes and where they start: the BIN chunk's, or a meshopt view's decoded once."""
+    view = document["bufferViews"][view_index]
+    meshopt = view.get("extensions", {}).get(_MESHOPT)
+    if meshopt is None:
+        return glb, bin_at + view.get("byteOffset", 0)
+    if view_index not in decoded:
+        if meshopt["buffer"] != 0:
+            raise ValueError("the GLB's compressed data is not in its BIN chunk")
+        start = bin_at + meshopt.get("byteOffset", 0)
+        decoded[view_index] = decode_view(glb[start:start + meshopt["byteLength"]], meshopt["count"],
+                                          meshopt["byteStride"], meshopt["mode"], meshopt.get("filter", "NONE"))
+    return decoded[view_index], 0
 
 
 def read_glb(glb: bytes) -> dict:
@@ -22,21 +47,29 @@ def read_glb(glb: bytes) -> dict:
     document = json.loads(glb[20:20 + json_length])
     bin_at = 20 + json_length + 8
     primitive = document["meshes"][0]["primitives"][0]
+    decoded = {}
 
     def accessor(index):
         a = document["accessors"][index]
         view = document["bufferViews"][a["bufferView"]]
+        data, view_start = _view_bytes(document, a["bufferView"], glb, bin_at, decoded)
         dtype, width = np.dtype(_COMPONENTS[a["componentType"]]), _WIDTH[a["type"]]
         stride = view.get("byteStride", dtype.itemsize * width)
-        start = bin_at + view.get("byteOffset", 0) + a.get("byteOffset", 0)
-        return np.ndarray((a["count"], width), dtype, glb, start, (stride, dtype.itemsize)).copy()
+        start = view_start + a.get("byteOffset", 0)
+        values = np.ndarray((a["count"], width), dtype, data, start, (stride, dtype.itemsize)).copy()
+        return _normalized(values) if a.get("normalized") else values
 
-    if "extensionsRequired" in document:
-        raise ValueError("the GLB needs " + ", ".join(document["extensionsRequired"]) + "; ask for the float encoding")
+    unknown = set(document.get("extensionsRequired", [])) - _UNDERSTOOD
+    if unknown:
+        raise ValueError("the GLB needs " + ", ".join(sorted(unknown)) + "; ask for the float encoding")
     attributes = primitive["attributes"]
-    # The node's translation: the mesh's origin when it lies far from the origin (docs/FAR-FROM-ORIGIN.md).
-    y_up = accessor(attributes["POSITION"]).astype(np.float64) + np.array(document["nodes"][0].get("translation", [0, 0, 0]))
+    # The node's scale (the quantization grid's step) and translation (the grid's centre, and the
+    # mesh's origin when it lies far from the origin: docs/GLB.md, docs/FAR-FROM-ORIGIN.md).
+    node = document["nodes"][0]
+    y_up = accessor(attributes["POSITION"]).astype(np.float64) * np.array(node.get("scale", [1, 1, 1])) \
+        + np.array(node.get("translation", [0, 0, 0]))
     normals = accessor(attributes["NORMAL"]).astype(np.float64)
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
     return {
         "positions": np.stack([y_up[:, 0], -y_up[:, 2], y_up[:, 1]], axis=1),  # from_y_up
         "normals": np.stack([normals[:, 0], -normals[:, 2], normals[:, 1]], axis=1),

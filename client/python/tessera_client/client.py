@@ -65,6 +65,14 @@ class TesseraError(Exception):
         self.retries = retries
 
 
+class InvalidArgumentError(TesseraError, ValueError):
+    """Arguments the client refuses before sending anything (the server would refuse them too, or
+    silently pick one): INVALID_ARGUMENT, and a ValueError for code that catches those."""
+
+    def __init__(self, message: str):
+        super().__init__(grpc.StatusCode.INVALID_ARGUMENT, message)
+
+
 class IntegrityError(TesseraError):
     """Bytes that do not match the checksum the server sent (or, for an arrays upload, the
     checksum of what was sent does not match the one the server stored)."""
@@ -126,6 +134,28 @@ def _check_received(data: bytearray, size: int, sha256: str, what: str) -> bytes
         raise IntegrityError(f"{what}: {len(data)} bytes received do not match the announced "
                              f"size {size} and sha256 {sha256}")
     return bytes(data)
+
+
+MESH_NAME_PREFIX = "meshes/"
+MeshRef = Union[str, mesh_pb2.Mesh]
+
+
+def mesh_id(mesh: MeshRef) -> str:
+    """The id of a mesh given as its id ("box"), its resource name ("meshes/box", as list_meshes()
+    and the server's messages name it) or a Mesh message."""
+    name = mesh.name if isinstance(mesh, mesh_pb2.Mesh) else str(mesh)
+    return name[len(MESH_NAME_PREFIX):] if name.startswith(MESH_NAME_PREFIX) else name
+
+
+def _mesh_name(mesh: MeshRef) -> str:
+    return MESH_NAME_PREFIX + mesh_id(mesh)
+
+
+def _at_most_one(what: str, **given) -> None:
+    """The request's fields form a oneof: a second one set would silently replace the first."""
+    named = [name for name, value in given.items() if value is not None]
+    if len(named) > 1:
+        raise InvalidArgumentError(f"{what}: give one of {', '.join(given)}, not several (got {' and '.join(named)})")
 
 
 def _flat(values, kind) -> list:
@@ -202,10 +232,10 @@ class TesseraClient:
 
     # -- meshes ---------------------------------------------------------------------------------
 
-    def upload_obj(self, mesh_id: str, obj: Union[str, Path, bytes], display_name: Optional[str] = None,
+    def upload_obj(self, mesh: str, obj: Union[str, Path, bytes], display_name: Optional[str] = None,
                    boundary: Optional[str] = None, progress: Optional[Callable[[int, int], None]] = None,
                    timeout: Optional[float] = None) -> mesh_pb2.Mesh:
-        """Uploads a Wavefront OBJ (a path, or its bytes) with OpenSubdiv's "t" tags; `boundary` is
+        """Uploads a Wavefront OBJ (a path, or its bytes) as `mesh` (an id, or "meshes/ID") with OpenSubdiv's "t" tags; `boundary` is
         None (the file's tag), "edge_only" or "edge_and_corner". `progress(sent, total)` after each
         chunk."""
         if isinstance(obj, (str, Path)):
@@ -213,7 +243,7 @@ class TesseraClient:
             display_name = display_name or Path(obj).name
         else:
             data = bytes(obj)
-        header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id, display_name=display_name or "",
+        header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id(mesh), display_name=display_name or "",
                                            format=mesh_pb2.MESH_FORMAT_OBJ, total_bytes=len(data),
                                            options=mesh_pb2.SubdivisionOptions(
                                                boundary_interpolation=_BOUNDARY[boundary]))
@@ -227,12 +257,12 @@ class TesseraClient:
 
         return self._call(lambda t: self._meshes.UploadMesh(messages(), timeout=t, metadata=self._metadata), timeout)
 
-    def upload_arrays(self, mesh_id: str, positions, face_sizes, face_vertices,
+    def upload_arrays(self, mesh: str, positions, face_sizes, face_vertices,
                       creases: Iterable[Tuple[int, int, float]] = (), corners: Iterable[Tuple[int, float]] = (),
                       holes: Sequence[int] = (), display_name: Optional[str] = None, boundary: Optional[str] = None,
                       uvs=(), uv_indices=(), uv_interpolation: str = "all", origin=(0.0, 0.0, 0.0),
                       timeout: Optional[float] = None) -> mesh_pb2.Mesh:
-        """Uploads a mesh as arrays (lists or NumPy arrays): positions x, y, z per vertex (any shape
+        """Uploads a mesh as arrays (lists or NumPy arrays) as `mesh` (an id, or "meshes/ID"): positions x, y, z per vertex (any shape
         that flattens to that), face sizes, face vertices counter-clockwise, creases (v0, v1,
         sharpness), corners (vertex, sharpness), hole faces, and optionally UVs (u, v per UV) with
         the UV of every face corner and OpenSubdiv's rule for them ("all", "none", "corners_only",
@@ -248,7 +278,7 @@ class TesseraClient:
         origin = tuple(float(c) for c in origin)
         total = 4 * (len(positions) + len(face_sizes) + len(face_vertices) + len(holes) + len(uvs) + len(uv_indices)) \
             + 12 * len(creases) + 8 * len(corners) + (24 if any(origin) else 0)
-        header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id, display_name=display_name or "",
+        header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id(mesh), display_name=display_name or "",
                                            format=mesh_pb2.MESH_FORMAT_ARRAYS, total_bytes=total,
                                            options=mesh_pb2.SubdivisionOptions(
                                                boundary_interpolation=_BOUNDARY[boundary],
@@ -284,8 +314,8 @@ class TesseraClient:
                                  f"but what was sent has {expected}")
         return mesh
 
-    def get_mesh(self, mesh_id: str, timeout: Optional[float] = None) -> mesh_pb2.Mesh:
-        request = mesh_pb2.GetMeshRequest(name=f"meshes/{mesh_id}")
+    def get_mesh(self, mesh: MeshRef, timeout: Optional[float] = None) -> mesh_pb2.Mesh:
+        request = mesh_pb2.GetMeshRequest(name=_mesh_name(mesh))
         return self._unary(self._meshes.GetMesh, request, timeout)
 
     def list_meshes(self, page_size: int = 0, timeout: Optional[float] = None) -> List[mesh_pb2.Mesh]:
@@ -299,13 +329,13 @@ class TesseraClient:
             if not token:
                 return meshes
 
-    def delete_mesh(self, mesh_id: str, timeout: Optional[float] = None) -> None:
-        request = mesh_pb2.DeleteMeshRequest(name=f"meshes/{mesh_id}")
+    def delete_mesh(self, mesh: MeshRef, timeout: Optional[float] = None) -> None:
+        request = mesh_pb2.DeleteMeshRequest(name=_mesh_name(mesh))
         self._unary(self._meshes.DeleteMesh, request, timeout)
 
     # -- tessellation ---------------------------------------------------------------------------
 
-    def tessellate(self, mesh_id: str, relative: Optional[float] = None, absolute: Optional[float] = None,
+    def tessellate(self, mesh: MeshRef, relative: Optional[float] = None, absolute: Optional[float] = None,
                    camera: Optional[Camera] = None, pixel_accuracy: Optional[float] = None,
                    eta: Optional[float] = None, uniform_level: Optional[int] = None,
                    max_triangles: Optional[int] = None, encoding: str = "float",
@@ -314,8 +344,13 @@ class TesseraClient:
         bounding-box diagonal), `absolute` (model units), or `camera` (pixel accuracy on its screen,
         `pixel_accuracy` pixels, default 0.5); or `uniform_level`. `encoding`: "float",
         "quantized" or "meshopt". `progress(stage, fraction)` as the server reports it. The GLB is
-        checked against the summary's size and sha256."""
-        request = tessellation_pb2.TessellateRequest(name=f"meshes/{mesh_id}", encoding=_ENCODING[encoding])
+        checked against the summary's size and sha256. `mesh` is an id, a name ("meshes/ID") or a
+        Mesh. Giving more than one of relative, absolute and camera raises InvalidArgumentError, as
+        does pixel_accuracy without a camera."""
+        _at_most_one("tessellate", relative=relative, absolute=absolute, camera=camera)
+        if pixel_accuracy is not None and camera is None:
+            raise InvalidArgumentError("tessellate: pixel_accuracy needs a camera")
+        request = tessellation_pb2.TessellateRequest(name=_mesh_name(mesh), encoding=_ENCODING[encoding])
         if relative is not None:
             request.relative = relative
         if absolute is not None:
@@ -345,9 +380,9 @@ class TesseraClient:
 
         return self._call(attempt, timeout)
 
-    def tessellate_to_file(self, mesh_id: str, path: Union[str, Path], **kwargs) -> tessellation_pb2.TessellationSummary:
+    def tessellate_to_file(self, mesh: MeshRef, path: Union[str, Path], **kwargs) -> tessellation_pb2.TessellationSummary:
         """tessellate() into a file, written whole (through a temporary beside it) or not at all."""
-        result = self.tessellate(mesh_id, **kwargs)
+        result = self.tessellate(mesh, **kwargs)
         path = Path(path)
         partial = path.with_name(path.name + ".partial")
         partial.write_bytes(result.glb)
@@ -356,11 +391,14 @@ class TesseraClient:
 
     # -- rendering ------------------------------------------------------------------------------
 
-    def render(self, mesh_id: str, cameras: Sequence[Camera], pixel_accuracy: Optional[float] = None,
+    def render(self, mesh: MeshRef, cameras: Sequence[Camera], pixel_accuracy: Optional[float] = None,
                absolute_tolerance: Optional[float] = None, uniform_level: Optional[int] = None,
                image_format: str = "png", crack_filling: Optional[bool] = None,
                timeout: Optional[float] = None) -> List[Frame]:
-        """One frame per camera, in order, each checked against its header's size and sha256."""
+        """One frame per camera, in order, each checked against its header's size and sha256. At most
+        one of pixel_accuracy, absolute_tolerance and uniform_level (InvalidArgumentError)."""
+        _at_most_one("render", pixel_accuracy=pixel_accuracy, absolute_tolerance=absolute_tolerance,
+                     uniform_level=uniform_level)
         settings = render_pb2.RenderSettings(format=_IMAGE_FORMAT[image_format])
         if pixel_accuracy is not None:
             settings.pixel_accuracy = pixel_accuracy
@@ -370,7 +408,7 @@ class TesseraClient:
             settings.uniform_level = uniform_level
         if crack_filling is not None:
             settings.crack_filling = crack_filling
-        request = render_pb2.RenderRequest(name=f"meshes/{mesh_id}", cameras=[c.to_proto() for c in cameras],
+        request = render_pb2.RenderRequest(name=_mesh_name(mesh), cameras=[c.to_proto() for c in cameras],
                                            settings=settings)
 
         def attempt(t: Optional[float]) -> List[Frame]:
