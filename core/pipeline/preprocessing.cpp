@@ -24,20 +24,40 @@ std::shared_ptr<const MeshTopology> buildMeshTopology(const ControlMesh& mesh, c
   return std::make_shared<const MeshTopology>(mesh, options);
 }
 
-PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options) {
-  validateControlMesh(mesh);
-  return buildPatchSet(mesh, *buildMeshTopology(mesh, options), options);
-}
+namespace {
 
-PatchSet buildPatchSet(const ControlMesh& mesh, const MeshTopology& topology, const PreprocessingOptions& options) {
-  validateControlMesh(mesh);
+// The patches and rings of `mesh` through its topology, which its positions are refined through.
+PatchSet piecesThrough(const ControlMesh& mesh, const MeshTopology& topology, const PreprocessingOptions& options) {
   // What the patch set is made of grows with the refinement (memory_estimates.h), known here
   // whether the topology was built now or before.
   if (options.afterRefining) options.afterRefining(topology.pieces.refinedVertices());
   const bool sameUvs = topology.uvs && mesh.uvs == topology.uvValues;
-  PatchSet patches = reduceToPatches(mesh, topology.pieces, options.checkpoint, sameUvs ? topology.uvs : nullptr);
+  return reduceToPatches(mesh, topology.pieces, options.checkpoint, sameUvs ? topology.uvs : nullptr);
+}
+
+void addSurface(PatchSet& patches, const ControlMesh& mesh, const MeshTopology& topology,
+                const PreprocessingOptions& options) {
   patches.adaptive = buildAdaptiveSurface(patches, topology.pieces.sheetFaces(), topology.seams, mesh.vertexCount(),
                                           options.checkpoint, chainFloorFor(options.finestRelativeTolerance));
+}
+
+}  // namespace
+
+PatchSet buildPatchSet(const ControlMesh& mesh, const PreprocessingOptions& options) {
+  validateControlMesh(mesh);
+  MeshTopology topology(mesh, options);
+  PatchSet patches = piecesThrough(mesh, topology, options);
+  // Kept by no one, Far's levels go before the tree is built: the cold job's peak is one or the
+  // other (the rook: ~360 MiB of refinement).
+  topology.pieces.releaseRefinement();
+  addSurface(patches, mesh, topology, options);
+  return patches;
+}
+
+PatchSet buildPatchSet(const ControlMesh& mesh, const MeshTopology& topology, const PreprocessingOptions& options) {
+  validateControlMesh(mesh);
+  PatchSet patches = piecesThrough(mesh, topology, options);
+  addSurface(patches, mesh, topology, options);
   return patches;
 }
 

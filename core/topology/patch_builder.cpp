@@ -3,6 +3,7 @@
 // gathered from them as the topology lays them out.
 #include "core/topology/patch_builder.h"
 
+#include <stdexcept>
 #include <string>
 
 #include "core/base/error.h"
@@ -72,6 +73,7 @@ PatchSet reduceToPatches(const ControlMesh& mesh, const PatchTopology& topology,
     throwInvalid("the mesh has " + std::to_string(mesh.vertexCount()) + " vertices and " +
                  std::to_string(mesh.faceCount()) + " faces, not the topology it was matched with");
   }
+  if (!topology.holdsRefinement()) throw std::logic_error("reduceToPatches: the topology's refinement was released");
   const std::vector<Vec3d> positions = refinedPositions(topology.refiner(), topology.sheetPositions(mesh));
   if (checkpoint) checkpoint();
   PatchSet result;

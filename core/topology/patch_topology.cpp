@@ -208,7 +208,8 @@ void PatchTopologyBuilder::refineAndLayOut(const ControlMesh& far, const std::ve
   const Far::PatchTableFactory::Options options = patchTableOptions(isolation);
   refineAdaptively(*out_.refiner_, options);
   checkpointNow();
-  if (options_.afterRefining) options_.afterRefining(out_.refiner_->GetNumVerticesTotal());
+  out_.refinedVertices_ = out_.refiner_->GetNumVerticesTotal();
+  if (options_.afterRefining) options_.afterRefining(out_.refinedVertices_);
   const Far::TopologyRefiner& refiner = *out_.refiner_;
   std::unique_ptr<Far::PatchTable> table(Far::PatchTableFactory::Create(refiner, options));
   checkpointNow();
@@ -316,7 +317,11 @@ std::vector<Vec3> PatchTopology::sheetPositions(const ControlMesh& mesh) const {
   return positions;
 }
 
-int64_t PatchTopology::refinedVertices() const { return refiner_->GetNumVerticesTotal(); }
+void PatchTopology::releaseRefinement() {
+  refiner_.reset();
+  regular_ = {};
+  rings_ = {};
+}
 
 size_t PatchTopology::bytes() const {
   // Far's levels: per refined vertex its faces, edges and tags, per face and edge their vertices

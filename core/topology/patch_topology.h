@@ -69,7 +69,11 @@ class PatchTopology {
   const RegularPatchLayout& regular() const { return regular_; }
   const std::vector<RingPiece>& rings() const { return rings_; }
   const PatchSetStats& stats() const { return stats_; }
-  int64_t refinedVertices() const;
+  int64_t refinedVertices() const { return refinedVertices_; }
+  // Frees Far's levels and the pieces' layout, keeping the faces, seams and stats: for a topology
+  // no other mesh will use, once its mesh's pieces are gathered. reduceToPatches needs them.
+  void releaseRefinement();
+  bool holdsRefinement() const { return refiner_ != nullptr; }
   // Resident bytes, for a cache's budget (Far's levels estimated from their counts).
   size_t bytes() const;
 
@@ -77,6 +81,7 @@ class PatchTopology {
   friend class PatchTopologyBuilder;
 
   int inputVertices_ = 0, inputFaces_ = 0, inputFaceVertices_ = 0;
+  int64_t refinedVertices_ = 0;
   std::vector<int> sheetVertex_;  // per sheet vertex its input vertex; empty when not cut
   ControlMesh sheetFaces_, seamFaces_;
   std::unique_ptr<Far::TopologyRefiner> refiner_;
