@@ -147,7 +147,8 @@ void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
   c.gm = node.standInCurvatureBound();
   const PairTightening& tightening = tree_.tightening;
   const bool tightens = tightening.deferred(n.node) != PairTightening::Deferred::kNone;
-  c.pairStage = tightening.directDeferred(n.node) ? Candidate::PairStage::kStandIn
+  // An internal node's direct bounds wait for a request (direct_pair_bounds.cpp); a leaf's are its own.
+  c.pairStage = !node.isLeaf()                     ? Candidate::PairStage::kStandIn
                 : tightens                          ? Candidate::PairStage::kDirect
                                                     : Candidate::PairStage::kTight;
   setPair(c, node.pairFields());

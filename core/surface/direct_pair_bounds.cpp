@@ -157,7 +157,7 @@ DirectBounds DirectGather::compute() {
 
 DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
   const PairTightening& kept = tree.tightening;
-  if (!kept.directDeferred(index)) {
+  if (tree.nodes[index].isLeaf()) {
     DirectBounds leaf;
     leaf.own = kept.ownPair[index];
     leaf.ownBows = kept.ownBows[index];
@@ -173,7 +173,7 @@ DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, ui
 }
 
 NodePair directPairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
-  if (!tree.tightening.directDeferred(index)) return tree.nodes[index].pairFields();
+  if (tree.nodes[index].isLeaf()) return tree.nodes[index].pairFields();
   return directBoundsOf(tree, patches, index).fields;
 }
 

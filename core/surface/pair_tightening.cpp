@@ -30,8 +30,7 @@ PairTightening::PairTightening(size_t nodes)
       pairs_(nodes),
       direct_(nodes),
       lowerBounds_(nodes, 0),
-      deferred_(nodes, Deferred::kNone),
-      directDeferred_(nodes, 0) {}
+      deferred_(nodes, Deferred::kNone) {}
 
 void PairTightening::roundDown(double lower, float& out) {
   const float f = float(lower);
@@ -44,14 +43,13 @@ void PairTightening::defer(uint32_t node, Deferred what, double lower) {
 }
 
 void PairTightening::deferDirect(uint32_t node, double lower) {
-  directDeferred_[node] = 1;
   roundDown(lower, lowerBounds_[node]);
 }
 
 size_t PairTightening::bytes() const {
   const size_t perNode = sizeof(std::array<Vec3d, 4>) + sizeof(double) + sizeof(std::array<double, 4>) +
                          PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(float) +
-                         sizeof(Deferred) + sizeof(uint8_t);
+                         sizeof(Deferred);
   return sizeof(*this) + size_ * perNode;
 }
 

@@ -59,7 +59,8 @@ class PairTightening {
   // Set while building. `lower`: a lower bound of every pair bound of the node (the surface's
   // centre against the pair's planes), rounded down here.
   void defer(uint32_t node, Deferred what, double lower);
-  // An internal node: its direct bounds wait for a request; `lower` as in defer().
+  // An internal node, whose direct bounds always wait for a request (a leaf's are its own):
+  // `lower` as in defer().
   void deferDirect(uint32_t node, double lower);
   // Per node, set by the build: its exact corner values, and for leaves their own bounds at
   // equal parameters (an internal node's are in its DirectBounds).
@@ -69,7 +70,6 @@ class PairTightening {
   double floor = 0;  // the tree's chain floor (SurfaceTree::floor)
 
   Deferred deferred(uint32_t node) const { return deferred_[node]; }
-  bool directDeferred(uint32_t node) const { return directDeferred_[node] != 0; }
   // Whether tightening `node` could bring its pair within `epsilon`; false guarantees that the
   // tightened pair is above it.
   bool mayReach(uint32_t node, double epsilon) const { return lowerBounds_[node] <= epsilon * (1 + 1e-6); }
@@ -91,7 +91,6 @@ class PairTightening {
   PublishedSlots<DirectBounds> direct_;
   std::vector<float> lowerBounds_;
   std::vector<Deferred> deferred_;
-  std::vector<uint8_t> directDeferred_;
 };
 
 // An internal node's direct bounds, computed on first read and kept; a leaf's own bounds.
