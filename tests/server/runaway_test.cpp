@@ -129,7 +129,9 @@ TEST_F(RunawayTest, SigtermStopsAServerRunningLongJobsWithinTheDrainDelayAndGrac
   ASSERT_TRUE(waitForRunningJobs(2));
   const auto start = Clock::now();
   EXPECT_EQ(server_->terminate(), 0);
-  EXPECT_LE(secondsSince(start), kDrain + kGrace + 1.0);
+  // Cancelled jobs stop within 1 s of the grace's end; the rest is the process's own exit, which
+  // took 1.1 s on a loaded CI run. Without the engine's checkpoint it took 5.7 s.
+  EXPECT_LE(secondsSince(start), kDrain + kGrace + 2.0);
 }
 
 // Every main slot runs a long job and one more waits; then an upload of a small mesh and a
