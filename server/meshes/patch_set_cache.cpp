@@ -61,8 +61,15 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
       };
     }
     validateControlMesh(mesh);
-    std::shared_ptr<const MeshTopology> topology = topologyOf(mesh, cancel, memory, options);
-    auto patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, *topology, options));
+    std::shared_ptr<const PatchSet> patches;
+    const std::string topologyKey = "topology:" + topologySha256(mesh);
+    if (seenBefore(topologyKey)) {
+      std::shared_ptr<const MeshTopology> topology = topologyOf(mesh, topologyKey, cancel, memory, options);
+      patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, *topology, options));
+    } else {
+      topologyMisses_.fetch_add(1);  // built, and freed once the pieces are gathered
+      patches = std::make_shared<const PatchSet>(buildPatchSet(mesh, options));
+    }
     cache_.insert(keyAt(meshSha256, floor), std::make_shared<const Entry>(Entry{patches, nullptr}), bytesOf(*patches));
     return patches;
   };
@@ -74,10 +81,16 @@ std::shared_ptr<const PatchSet> PatchSetCache::get(const ControlMesh& mesh,
 
 // Built with the first mesh's options (its refinement hooks reserve the job's memory); a build
 // another call has under way is waited for.
-std::shared_ptr<const MeshTopology> PatchSetCache::topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
+bool PatchSetCache::seenBefore(const std::string& topologyKey) {
+  if (seen_.find(topologyKey)) return true;
+  seen_.insert(topologyKey, std::make_shared<const char>(1), topologyKey.size() + kSeenEntryBytes);
+  return false;
+}
+
+std::shared_ptr<const MeshTopology> PatchSetCache::topologyOf(const ControlMesh& mesh, const std::string& key,
+                                                              const CancellationToken& cancel,
                                                               MemoryReservation* memory,
                                                               const PreprocessingOptions& options) {
-  const std::string key = "topology:" + topologySha256(mesh);
   bool built = false;
   auto build = [&] {
     built = true;

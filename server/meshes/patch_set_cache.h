@@ -13,10 +13,12 @@
 // A patch set's topology (core's MeshTopology: Far's refinement, the pieces' layout, the seams) is
 // cached beside it, keyed by core's topologySha256: a mesh with the same faces, tags, rules and UV
 // topology and moved vertices (a modelling tool's edited cage, a frame of an animated one) is
-// preprocessed from its positions alone (docs/DECISIONS.md "Edits reuse topology"). Both share
-// the one byte budget, least recently used out first: a modelling tool's edit loop keeps its
-// topology, which every edit uses, and its latest patch set, while the patch sets of earlier
-// edits fall out.
+// preprocessed from its positions alone (docs/DECISIONS.md "Edits reuse topology"). A topology
+// is kept from the second patch set built with it (an edit, or a finer request): a one-off
+// request keeps no refinement, which is most of a topology's memory and, kept among the
+// request's freed memory, holds pages the system does not get back. Both share the one byte
+// budget, least recently used out first: a modelling tool's edit loop keeps its topology, which
+// every edit uses, and its latest patch set, while the patch sets of earlier edits fall out.
 #pragma once
 
 #include <atomic>
@@ -66,12 +68,16 @@ class PatchSetCache {
   // misses: builds started (each preprocessing, finished or not); bytes and entries: patch sets
   // and topologies together.
   CacheStats stats() const;
-  // hits: preprocessings that reused a cached topology; misses: topologies built (only these two).
+  // hits: preprocessings that reused a cached topology; misses: topologies built, kept or not
+  // (only these two).
   CacheStats topologyStats() const;
 
  private:
-  std::shared_ptr<const MeshTopology> topologyOf(const ControlMesh& mesh, const CancellationToken& cancel,
-                                                 MemoryReservation* memory, const PreprocessingOptions& options);
+  // Whether a patch set of this topology was built before (and marks it so).
+  bool seenBefore(const std::string& topologyKey);
+  std::shared_ptr<const MeshTopology> topologyOf(const ControlMesh& mesh, const std::string& key,
+                                                 const CancellationToken& cancel, MemoryReservation* memory,
+                                                 const PreprocessingOptions& options);
   std::shared_ptr<const PatchSet> cachedFor(const std::string& meshSha256, double chainFloor);
 
   // A cache entry: a patch set (keyed by content and chain floor) or a topology (by topology).
@@ -83,6 +89,9 @@ class PatchSetCache {
   LruCache<std::string, Entry> cache_;
   SingleFlight<std::string, PatchSet, TesseraError> builds_;
   SingleFlight<std::string, MeshTopology, TesseraError> topologyBuilds_;
+  // Topologies preprocessed once (their keys only): the second sees its topology kept.
+  static constexpr size_t kSeenEntryBytes = 64;
+  LruCache<std::string, char> seen_{1 << 20};
   std::atomic<uint64_t> topologyHits_{0};
   std::atomic<uint64_t> topologyMisses_{0};
   int64_t maxRefinedVertices_;

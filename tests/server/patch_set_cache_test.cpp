@@ -98,22 +98,28 @@ TEST(PatchSetCache, TheSameContentInAnotherMeshIsPreprocessedOnce) {
   EXPECT_THROW(cache.get(other, "", {}, nullptr), std::invalid_argument);
 }
 
-// An edit (the same topology, vertices moved) is new content, preprocessed from its positions
-// through the first mesh's topology: the same pieces as from scratch, and no topology built again.
-// Another topology builds its own.
+// An edit (the same topology, vertices moved) is new content. A topology is kept from its second
+// patch set on (a one-off request keeps no refinement); later edits are preprocessed from their
+// positions through it: the same pieces as from scratch, and no topology built again. Another
+// topology builds its own.
 TEST(PatchSetCache, AnEditReusesItsTopologyAndMakesThePatchSetFromScratch) {
   PatchSetCache cache(kBudget, kNoLimit);
   const ControlMesh first = cube();
-  ControlMesh edit = cube();
+  ControlMesh edit = cube(), again = cube();
   edit.positions[6] = {1.3f, 1.2f, -0.1f};
+  again.positions[5] = {1.2f, -0.3f, 1.1f};
   ASSERT_NE(contentSha256(first), contentSha256(edit));
   cache.get(first, contentSha256(first), {}, nullptr);
-  auto reused = cache.get(edit, contentSha256(edit), {}, nullptr);
-  EXPECT_EQ(cache.stats().misses, 2u);
-  EXPECT_EQ(cache.topologyStats().misses, 1u);
-  EXPECT_EQ(cache.topologyStats().hits, 1u);
+  EXPECT_EQ(cache.stats().entries, 1u);  // no topology kept for a one-off
+  cache.get(edit, contentSha256(edit), {}, nullptr);
+  EXPECT_EQ(cache.topologyStats().misses, 2u);
+  EXPECT_EQ(cache.topologyStats().hits, 0u);
   EXPECT_EQ(cache.stats().entries, 3u);  // two patch sets, one topology
-  const PatchSet scratch = buildPatchSet(edit);
+  auto reused = cache.get(again, contentSha256(again), {}, nullptr);
+  EXPECT_EQ(cache.stats().misses, 3u);
+  EXPECT_EQ(cache.topologyStats().misses, 2u);
+  EXPECT_EQ(cache.topologyStats().hits, 1u);
+  const PatchSet scratch = buildPatchSet(again);
   ASSERT_EQ(reused->regular.bspline.size(), scratch.regular.bspline.size());
   EXPECT_EQ(std::memcmp(reused->regular.bspline.data(), scratch.regular.bspline.data(),
                         scratch.regular.bspline.size() * sizeof(ControlNet)),
@@ -123,11 +129,12 @@ TEST(PatchSetCache, AnEditReusesItsTopologyAndMakesThePatchSetFromScratch) {
   ControlMesh creased = cube();
   creased.creases.push_back({0, 1, 2.0f});
   cache.get(creased, contentSha256(creased), {}, nullptr);
-  EXPECT_EQ(cache.topologyStats().misses, 2u);
+  EXPECT_EQ(cache.topologyStats().misses, 3u);
+  EXPECT_EQ(cache.topologyStats().hits, 1u);
 }
 
 // A patch set is built for the finest tolerance asked so far (its EV chains' depth): a coarser
-// request is served by a finer one's, a finer request builds its own from the same topology.
+// request is served by a finer one's, a finer request builds its own (and keeps the topology).
 TEST(PatchSetCache, AFinerRequestsPatchSetServesACoarserOne) {
   PatchSetCache cache(kBudget, kNoLimit);
   const ControlMesh mesh = cube();
@@ -143,9 +150,9 @@ TEST(PatchSetCache, AFinerRequestsPatchSetServesACoarserOne) {
   // 1e-5 is deep enough for any request (kChainFloor): what a request of unknown ε gets.
   EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 0), fine);
   EXPECT_EQ(cache.stats().misses, 2u);
-  // The finer build refined nothing again: it took the coarse one's topology.
-  EXPECT_EQ(cache.topologyStats().misses, 1u);
-  EXPECT_EQ(cache.topologyStats().hits, 1u);
+  // The finer build, the topology's second, kept it.
+  EXPECT_EQ(cache.topologyStats().misses, 2u);
+  EXPECT_EQ(cache.stats().entries, 3u);
 }
 
 TEST(PatchSetCache, ConcurrentColdGetsPreprocessOnceChargingTheBuilderOnly) {
