@@ -13,9 +13,10 @@ constexpr double kMiB = 1 << 20;
 
 std::string metricsOf(const ServerProcess& server) { return httpGet(server.metricsAddress(), "/metrics"); }
 
-void uploadAndTessellate(const ServerProcess& server, const std::string& id, int seed, bool upload) {
+// A grid of cells × cells quads.
+void uploadAndTessellate(const ServerProcess& server, const std::string& id, int cells, bool upload) {
   auto meshes = v1::MeshService::NewStub(server.channel());
-  if (upload) ASSERT_TRUE(uploadMessages(*meshes, arraysUpload(id, gridMesh(24, seed))).status.ok());
+  if (upload) ASSERT_TRUE(uploadMessages(*meshes, arraysUpload(id, gridMesh(cells, 1))).status.ok());
   auto tessellation = v1::TessellationService::NewStub(server.channel());
   v1::TessellateRequest request;
   request.set_name("meshes/" + id);
@@ -38,21 +39,24 @@ TEST(PatchCacheBudget, EvictionsAreCountedAndTheNextRequestPreprocessesAgain) {
     TempDir sizing;  // a server and store of its own
     auto server = ServerProcess::start(sizing.path(), {});
     ASSERT_TRUE(server);
-    uploadAndTessellate(*server, "a", 1, true);
+    uploadAndTessellate(*server, "a", 24, true);
     oneSet = seriesValue(metricsOf(*server), "tessera_patch_cache_bytes");
     ASSERT_GT(oneSet, 0);
   }
-  // Room for one of the two grids' patch sets (the same topology, so about the same size).
+  // Room for one of the two grids' patch sets (about the same size; two topologies, so that the
+  // cache keeps no topology, patch_set_cache.h).
   auto server = ServerProcess::start(dir.path(), {"--patch-cache-bytes", std::to_string(int64_t(1.5 * oneSet))});
   ASSERT_TRUE(server);
-  uploadAndTessellate(*server, "a", 1, true);
-  uploadAndTessellate(*server, "b", 2, true);
+  uploadAndTessellate(*server, "a", 24, true);
+  uploadAndTessellate(*server, "b", 25, true);
   std::string metrics = metricsOf(*server);
   EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_evictions_total"), 1) << metrics;
   EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_misses_total"), 2) << metrics;
-  uploadAndTessellate(*server, "a", 1, false);
+  uploadAndTessellate(*server, "a", 24, false);
   metrics = metricsOf(*server);
-  EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_evictions_total"), 2) << metrics;
+  // a's second patch set keeps its topology (patch_set_cache.h): the topology takes b's room, and
+  // a's patch set the topology's (the budget holds one and a half patch sets).
+  EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_evictions_total"), 3) << metrics;
   EXPECT_EQ(seriesValue(metrics, "tessera_patch_cache_misses_total"), 3) << metrics;
 }
 
