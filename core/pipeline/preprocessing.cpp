@@ -14,10 +14,7 @@ MeshTopology::MeshTopology(const ControlMesh& mesh, const PreprocessingOptions& 
 }
 
 size_t MeshTopology::bytes() const {
-  auto bytesOf = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  return pieces.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
-         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + bytesOf(uvValues) +
-         (uvs ? uvs->bytes() : 0);
+  return pieces.bytes() + seams.bytes() + uvValues.capacity() * sizeof(float) + (uvs ? uvs->bytes() : 0);
 }
 
 std::shared_ptr<const MeshTopology> buildMeshTopology(const ControlMesh& mesh, const PreprocessingOptions& options) {

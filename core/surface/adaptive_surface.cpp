@@ -3,9 +3,7 @@
 namespace tessera {
 
 size_t AdaptiveSurface::bytes() const {
-  auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
-  return tree.bytes() + bytesOf(seams.faceSizes) + bytesOf(seams.faceVertices) + bytesOf(seams.faceOffsets) +
-         bytesOf(seams.sharpEdges) + bytesOf(seams.cornerWedge) + bytesOf(seams.cornerPinched) + lines.bytes();
+  return tree.bytes() + seams.bytes() + lines.bytes();
 }
 
 std::shared_ptr<const AdaptiveSurface> buildAdaptiveSurface(const PatchSet& patches, const ControlMesh& sheetFaces,

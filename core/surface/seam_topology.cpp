@@ -114,6 +114,12 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
   }
 }
 
+size_t SeamTopology::bytes() const {
+  auto bytesOf = [](const auto& v) { return v.size() * sizeof(v[0]); };
+  return bytesOf(faceSizes) + bytesOf(faceVertices) + bytesOf(faceOffsets) + bytesOf(sharpEdges) +
+         bytesOf(cornerWedge) + bytesOf(cornerPinched);
+}
+
 bool SeamTopology::sharp(int v0, int v1) const {
   return std::binary_search(sharpEdges.begin(), sharpEdges.end(), ordered(v0, v1));
 }

@@ -8,6 +8,7 @@
 // along base edges and spokes integers at scale 2^kLineBits (a sub-face covers half an edge).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <tuple>
 #include <vector>
@@ -53,6 +54,7 @@ struct SeamTopology {
     return faceVertices[faceOffsets[face] + ((k % n) + n) % n];
   }
   bool sharp(int v0, int v1) const;
+  size_t bytes() const;
   bool pinched(int face, int k) const { return cornerPinched[faceOffsets[face] + k] != 0; }
   // Wedge of corner k of face f (the smallest face id of the wedge), -1 where one normal serves
   // every face around the vertex.
