@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,63 @@ TEST(PairTightening, NeverLooserAndNeverBelowTheLowerBound) {
     EXPECT_TRUE(tree.tightening.mayReach(i, tight.pair)) << "node " << i;
   }
   EXPECT_GT(directs, 0);  // the pieces took off something from the stand-ins' bounds somewhere
+}
+
+// A tightening stopped at a limit says only what the whole one would: none exactly where the
+// tightened pair is above the limit, else the same bounds; and afterwards the node is known not
+// to reach any ε up to that limit.
+// The nodes of `tree` at most `depth` levels below a root.
+std::vector<uint32_t> nodesDownTo(const SurfaceTree& tree, int depth) {
+  std::vector<uint32_t> out, level;
+  for (const SurfaceRoot& root : tree.roots) {
+    if (root.node != kNoNode) level.push_back(root.node);
+  }
+  for (int d = 0; d <= depth && !level.empty(); ++d) {
+    out.insert(out.end(), level.begin(), level.end());
+    std::vector<uint32_t> next;
+    for (uint32_t i : level) {
+      if (tree.nodes[i].isLeaf()) continue;
+      for (int q = 0; q < 4; ++q) next.push_back(tree.nodes[i].firstChild + q);
+    }
+    level = std::move(next);
+  }
+  return out;
+}
+
+void expectStopsAgree(const ControlMesh& mesh, int depth, const std::vector<double>& relativeLimits) {
+  const PatchSet whole = buildPatchSet(mesh);
+  const SurfaceTree& reference = whole.adaptive->tree;
+  const double diagonal = length(Vec3d(whole.boundsMax) - Vec3d(whole.boundsMin));
+  int stopped = 0, kept = 0;
+  for (double relative : relativeLimits) {
+    const PatchSet set = buildPatchSet(mesh);
+    const SurfaceTree& tree = set.adaptive->tree;
+    const double limit = relative * diagonal;
+    for (uint32_t i : nodesDownTo(tree, depth)) {
+      if (tree.tightening.deferred(i) == PairTightening::Deferred::kNone) continue;
+      const NodePair full = pairOf(reference, whole, i);
+      const std::optional<NodePair> within = pairWithin(tree, set, i, limit);
+      if (!within) {
+        ++stopped;
+        EXPECT_GT(full.pair, limit) << "node " << i;
+        EXPECT_FALSE(tree.tightening.mayReach(i, limit)) << "node " << i;
+        EXPECT_FALSE(tree.tightening.mayReach(i, limit / 2)) << "node " << i;
+        continue;
+      }
+      ++kept;
+      EXPECT_TRUE(samePair(*within, full)) << "node " << i << " limit " << limit;
+    }
+  }
+  EXPECT_GT(stopped, 0);  // otherwise the stop was not tested
+  EXPECT_GT(kept, 0);
+}
+
+TEST(PairTightening, StoppedAtALimitAgreesWithTheWholeTightening) { expectStopsAgree(cubes(), 64, {3e-2, 1e-2, 3e-3, 1e-3}); }
+
+// Where §3d's flat bound is the one that brings a node within the limit (the rook's flat tops).
+TEST(PairTightening, StoppedAtALimitAgreesWhereTheFlatBoundDecides) {
+  // The nodes a plan reads at these limits: its deep crease strips would take minutes to tighten.
+  expectStopsAgree(readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_rook.obj"), 3, {1e-2, 1e-3});
 }
 
 // The planner tightens what it reads: a cold request, a warm one after it, and one on a tree whose

@@ -110,7 +110,7 @@ class Planner {
   Rates settledGridFor(Candidate& c, double epsilon, int minRate) const;
   Rates pairOrSettledGrid(Candidate& c, double epsilon) const;
   bool pairMayServe(Candidate& c, double epsilon) const;
-  void nextPairStage(Candidate& c) const;
+  void nextPairStage(Candidate& c, double epsilon) const;
   Rates edgeGridFor(Candidate& c, const Rates& curvatureRates, double epsilon) const;
   Rates evGridFor(const NodeSquare& n, double epsilon, int minRate) const;
   bool touchesPinchedCorner(const Candidate& c) const;
@@ -301,7 +301,7 @@ bool Planner::touchesPinchedCorner(const Candidate& c) const {
   return false;
 }
 
-void Planner::nextPairStage(Candidate& c) const {
+void Planner::nextPairStage(Candidate& c, double epsilon) const {
   const uint32_t node = c.real.node;
   if (c.pairStage == Candidate::PairStage::kStandIn) {
     setPair(c, directPairOf(tree_, patches_, node));
@@ -309,7 +309,13 @@ void Planner::nextPairStage(Candidate& c) const {
     c.pairStage = tightens ? Candidate::PairStage::kDirect : Candidate::PairStage::kTight;
     return;
   }
-  setPair(c, pairOf(tree_, patches_, node));
+  // Tightened only as far as it takes to know whether it is within ε (pairWithin).
+  const std::optional<NodePair> tight = pairWithin(tree_, patches_, node, epsilon);
+  if (tight) {
+    setPair(c, *tight);
+  } else {
+    c.pair = kInfinity;
+  }
   c.pairStage = Candidate::PairStage::kTight;
 }
 
@@ -325,7 +331,7 @@ bool Planner::pairMayServe(Candidate& c, double epsilon) const {
     // size (core/stitching/face_triangles.h): theirs is the tightest.
     if (c.pairWithBows() <= epsilon && !(rootInTriangle_ && c.level == 0)) return true;
     if (c.pair > epsilon && !tree_.tightening.mayReach(c.real.node, epsilon)) return false;
-    nextPairStage(c);
+    nextPairStage(c, epsilon);
   }
   if (!c.pairKnown) {
     if (centreGap(c.net) > epsilon) return false;

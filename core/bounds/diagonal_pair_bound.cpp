@@ -13,7 +13,8 @@ namespace tessera {
 // split, or its net bounded by de Casteljau, only where the cheap bound could raise the maxima;
 // without a net (a node standing for its leaves) the cheap bounds are the bounds.
 void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, double x, double y, double s,
-                          const DiagonalMap& map, double& pair, std::array<double, 4>& bows) {
+                          const DiagonalMap& map, double& pair, std::array<double, 4>& bows, double abortAbove) {
+  if (pair > abortAbove) return;
   const double cx[4] = {x, x + s, x + s, x}, cy[4] = {y, y, y + s, y + s};
   Vec3d leafB[4];
   for (int k = 0; k < 4; ++k) leafB[k] = own.bilinear(cx[k], cy[k]);
@@ -48,7 +49,8 @@ void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, doub
   if (spans || (met == 3 && open && map.relativeSize(i, j, s) > 0.125)) {
     for (int q = 0; q < 4; ++q) {
       const LazyNet quadrant{net, q, false, {}};
-      pieceAgainstDiagonal(net ? &quadrant : nullptr, r, own, x + (q & 1) * s / 2, y + (q >> 1) * s / 2, s / 2, map, pair, bows);
+      pieceAgainstDiagonal(net ? &quadrant : nullptr, r, own, x + (q & 1) * s / 2, y + (q >> 1) * s / 2, s / 2, map, pair, bows,
+                           abortAbove);
     }
     return;
   }

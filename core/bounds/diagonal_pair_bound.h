@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include "core/bounds/diagonal_reparameterization.h"
 #include "core/math/bezier_net.h"
@@ -32,7 +33,10 @@ struct LazyNet {
 
 // Raises `pair` and `bows` (the ancestor's maxima) to bound the square [x, x + s]² of the leaf
 // `own` (within r of the surface; `net` its net, or null for a node standing for its leaves).
+// Stops as soon as `pair` is above `abortAbove`: the maxima are then incomplete, and only the
+// fact that the pair bound exceeds it is known.
 void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, double x, double y, double s,
-                          const DiagonalMap& map, double& pair, std::array<double, 4>& bows);
+                          const DiagonalMap& map, double& pair, std::array<double, 4>& bows,
+                          double abortAbove = INFINITY);
 
 }  // namespace tessera

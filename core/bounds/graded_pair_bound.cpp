@@ -88,21 +88,22 @@ DiagonalMap gradedMap(const BezierNet& net, const Samples& f, const Vec3d corner
 
 }  // namespace
 
-std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below) {
+std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below, double abortAbove) {
   Vec3d corners[4];
   for (int k = 0; k < 4; ++k) corners[k] = net[kCornerIndex[k]];
   const Samples f = sampleNet(net);
   const DiagonalMap first = gradedMap(net, f, corners, 0), second = gradedMap(net, f, corners, 1);
   const DiagonalMap& map = second.gridGap() < first.gridGap() ? second : first;
   // The gap at the grid points is a lower bound of the result: no use bounding the rest.
-  if (!(map.gridGap() < below)) return std::nullopt;
+  if (!(map.gridGap() < below) || map.gridGap() > abortAbove) return std::nullopt;
   LeafOwn own{{corners[0], corners[1], corners[2], corners[3]}, 0, 0, 1, splitNetDistance(net, bilinearNet(corners)), {}};
   const std::array<double, 4> bows = chordBows(net, corners);
   std::copy(bows.begin(), bows.end(), own.bows);
   PairBounds out;
   out.pair = map.gridGap();  // starts the maximum, so cheap bounds skip more
   const LazyNet whole{nullptr, 0, true, net};
-  pieceAgainstDiagonal(&whole, 0, own, 0, 0, 1, map, out.pair, out.bows);
+  pieceAgainstDiagonal(&whole, 0, own, 0, 0, 1, map, out.pair, out.bows, abortAbove);
+  if (out.pair > abortAbove) return std::nullopt;
   out.diagonal = uint8_t(1 + map.diagonal());
   return out;
 }

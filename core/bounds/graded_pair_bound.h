@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -21,8 +22,9 @@ struct PairBounds {
 
 // The bicubic over the unit square with this net, against the pair through its corners along the
 // better diagonal (the one nearer the surface at the map's grid points); none when that diagonal's
-// gap at the grid points (a lower bound of the result) is not below `below`.
-std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below);
+// gap at the grid points (a lower bound of the result) is not below `below`, or when the bound is
+// found to be above `abortAbove` (its computation then stops there).
+std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below, double abortAbove = INFINITY);
 
 // A lower bound of every pair bound of the net, at equal parameters or through any map: the distance
 // of f(½, ½) from the nearer of the pair's planes, for the diagonal that makes it smaller.

@@ -29,6 +29,7 @@ PairTightening::PairTightening(size_t nodes)
       size_(nodes),
       pairs_(nodes),
       direct_(nodes),
+      provenAbove_(nodes),
       lowerBounds_(nodes, 0),
       deferred_(nodes, Deferred::kNone) {}
 
@@ -46,10 +47,17 @@ void PairTightening::deferDirect(uint32_t node, double lower) {
   roundDown(lower, lowerBounds_[node]);
 }
 
+void PairTightening::raiseProvenAbove(uint32_t node, double limit) const {
+  const std::atomic_ref known(provenAbove_[node]);
+  double was = known.load(std::memory_order_relaxed);
+  while (was < limit && !known.compare_exchange_weak(was, limit, std::memory_order_relaxed)) {
+  }
+}
+
 size_t PairTightening::bytes() const {
   const size_t perNode = sizeof(std::array<Vec3d, 4>) + sizeof(double) + sizeof(std::array<double, 4>) +
-                         PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(float) +
-                         sizeof(Deferred);
+                         PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(double) +
+                         sizeof(float) + sizeof(Deferred);
   return sizeof(*this) + size_ * perNode;
 }
 
@@ -68,16 +76,17 @@ class Tightener {
   Tightener(const SurfaceTree& tree, const PatchSet& patches)
       : tree_(tree), patches_(patches), kept_(tree.tightening) {}
 
-  NodePair leaf(uint32_t index) const;
-  NodePair internal(uint32_t index) const;
+  // Each none where the pair is proven above `limit` (pairWithin).
+  std::optional<NodePair> leaf(uint32_t index, double limit) const;
+  std::optional<NodePair> internal(uint32_t index, double limit) const;
 
  private:
   void gatherGridSamples(uint32_t index, int depth, uint64_t ix, uint64_t iy, Vec3d* grid) const;
   DiagonalMap diagonalMap(uint32_t index) const;
   void againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t iy, const DiagonalMap& map, double& pair,
-                       std::array<double, 4>& bows) const;
+                       std::array<double, 4>& bows, double abortAbove) const;
   void gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, FlatGather& gather) const;
-  void flatten(uint32_t index, NodePair& pair) const;
+  std::optional<FlatPairBound> flatBound(uint32_t index) const;
 
   const SurfaceTree& tree_;
   const PatchSet& patches_;
@@ -93,14 +102,21 @@ void keepFlat(const FlatPairBound& flat, const Vec3d corners[4], NodePair& pair)
   pair.diagonal = bounds.diagonal;
 }
 
+// Whether §3d's bound, kept, can bring the pair within `limit` (it is grown by 1 + 1e-9): where
+// neither it nor the bound so far can, the tightening may stop at the limit.
+bool within(double bound, double limit) { return bound * (1 + 1e-9) <= limit; }
+
 // §3c, kept where smaller than §3's at equal parameters and worth its cost (it may take off a
-// fifth at least), then §3d, kept where smaller still.
-NodePair Tightener::leaf(uint32_t index) const {
+// fifth at least), then §3d, kept where smaller still. §3c's walk, the dear part, stops at
+// `limit` when neither §3's bound nor §3d's is within it (the least of the three is then above).
+std::optional<NodePair> Tightener::leaf(uint32_t index, double limit) const {
   const SurfaceNode& node = tree_.nodes[index];
   const BezierNet net = pieceNet(tree_, patches_, index);
   NodePair pair = node.pairFields();
+  const std::optional<FlatPairBound> flat = flatPairBound(net);
+  const bool stops = pair.pair > limit && !(flat && within(flat->pair, limit));
   if (pair.pair > kGradedFloor * kept_.floor && pair.pair > kGradedSlack * pairLowerBound(net)) {
-    const std::optional<PairBounds> graded = gradedPairBounds(net, 0.8 * pair.pair);
+    const std::optional<PairBounds> graded = gradedPairBounds(net, 0.8 * pair.pair, stops ? limit : INFINITY);
     const double bound = graded ? graded->pair * (1 + 1e-9) : INFINITY;
     if (bound < pair.pair) {
       pair.pair = roundUp(bound);
@@ -108,9 +124,9 @@ NodePair Tightener::leaf(uint32_t index) const {
       pair.diagonal = graded->diagonal;
     }
   }
-  const std::optional<FlatPairBound> flat = flatPairBound(net);
   const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
   if (flat) keepFlat(*flat, corners, pair);
+  if (stops && pair.pair > limit) return std::nullopt;
   return pair;
 }
 
@@ -155,7 +171,8 @@ DiagonalMap Tightener::diagonalMap(uint32_t index) const {
 // kDiagonalReach ancestors, however deep the tree. The cheap bounds skip pieces against the
 // maxima so far, which is why the order is the build's.
 void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t iy, const DiagonalMap& map,
-                                double& pair, std::array<double, 4>& bows) const {
+                                double& pair, std::array<double, 4>& bows, double abortAbove) const {
+  if (pair > abortAbove) return;
   const SurfaceNode& node = tree_.nodes[index];
   const double scale = exp2i(-depth), x0 = double(ix) * scale, y0 = double(iy) * scale;
   if (depth == kDiagonalReach + 1) {
@@ -163,11 +180,12 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
     const DirectBounds own = directBoundsOf(tree_, patches_, index);
     const std::array<double, 4>& b = own.ownBows;
     const LeafOwn stand{{c[0], c[1], c[2], c[3]}, x0, y0, scale, own.own, {b[0], b[1], b[2], b[3]}};
-    return pieceAgainstDiagonal(nullptr, 0, stand, x0, y0, scale, map, pair, bows);
+    return pieceAgainstDiagonal(nullptr, 0, stand, x0, y0, scale, map, pair, bows, abortAbove);
   }
   if (!node.isLeaf()) {
     for (int q = 0; q < 4; ++q) {
-      againstDiagonal(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), map, pair, bows);
+      againstDiagonal(node.firstChild + q, depth + 1, 2 * ix + uint64_t(q & 1), 2 * iy + uint64_t(q >> 1), map, pair, bows,
+                      abortAbove);
     }
     return;
   }
@@ -177,7 +195,7 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
   const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
                     x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
   const LazyNet whole{nullptr, 0, true, net};
-  pieceAgainstDiagonal(&whole, r, own, x0, y0, scale, map, pair, bows);
+  pieceAgainstDiagonal(&whole, r, own, x0, y0, scale, map, pair, bows, abortAbove);
 }
 
 // §3d over a node of several pieces: its descendants kFlatReach levels down stand in with their
@@ -210,27 +228,38 @@ void Tightener::gatherFlat(uint32_t index, int depth, uint64_t ix, uint64_t iy, 
   gather.addNet(net, r, on);
 }
 
-void Tightener::flatten(uint32_t index, NodePair& pair) const {
-  if (!(pair.pair > kDiagonalFloor * kept_.floor)) return;
+std::optional<FlatPairBound> Tightener::flatBound(uint32_t index) const {
   const Vec3d* corners = kept_.corners[index].data();
   FlatGather gather(corners);
-  if (!gather.valid()) return;
+  if (!gather.valid()) return std::nullopt;
   gatherFlat(index, 0, 0, 0, gather);
-  keepFlat(gather.bound(), corners, pair);
+  return gather.bound();
 }
 
 // §3b through the node's diagonal map where its pair bound is smaller than the direct one (no
-// twist, that diagonal only, with its own bows), then §3d.
-NodePair Tightener::internal(uint32_t index) const {
+// twist, that diagonal only, with its own bows), then §3d where the pair is still above
+// kDiagonalFloor chain floors. The walk of §3b, the dear part, stops at `limit` when neither the
+// direct bound nor §3d's is within it (§3d is then computed first: it is computed after §3b
+// wherever the pair stays above the limit, and the limits a plan passes are far above that floor).
+std::optional<NodePair> Tightener::internal(uint32_t index, double limit) const {
+  const DirectBounds direct = directBoundsOf(tree_, patches_, index);
+  std::optional<FlatPairBound> flat;
+  bool flatKnown = false;
+  bool stops = false;
+  if (direct.pair > limit && limit > kDiagonalFloor * kept_.floor) {
+    flat = flatBound(index), flatKnown = true;
+    stops = !(flat && within(flat->pair, limit));
+  }
   const DiagonalMap map = diagonalMap(index);
   // Its value at the grid points starts the maximum: the cheap bounds then skip more pieces.
   double diagonalPair = map.gridGap();
   std::array<double, 4> diagonalBows = {0, 0, 0, 0};
+  const double abortAbove = stops ? limit : INFINITY;
   const SurfaceNode& node = tree_.nodes[index];
   for (int q = 0; q < 4; ++q) {
-    againstDiagonal(node.firstChild + q, 1, uint64_t(q & 1), uint64_t(q >> 1), map, diagonalPair, diagonalBows);
+    againstDiagonal(node.firstChild + q, 1, uint64_t(q & 1), uint64_t(q >> 1), map, diagonalPair, diagonalBows, abortAbove);
   }
-  const DirectBounds direct = directBoundsOf(tree_, patches_, index);
+  if (diagonalPair > abortAbove) return std::nullopt;
   double bound = direct.pair;
   std::array<double, 4> bows = direct.bows;
   uint8_t kept = 0;
@@ -242,21 +271,36 @@ NodePair Tightener::internal(uint32_t index) const {
   pair.pair = roundUp(bound);
   for (int side = 0; side < 4; ++side) pair.bows[side] = roundUp(bows[side]);
   pair.diagonal = kept;
-  flatten(index, pair);
+  if (pair.pair > kDiagonalFloor * kept_.floor) {
+    if (!flatKnown) flat = flatBound(index);
+    if (flat) keepFlat(*flat, kept_.corners[index].data(), pair);
+  }
+  if (stops && pair.pair > limit) return std::nullopt;
   return pair;
 }
 
 }  // namespace
 
-NodePair pairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
+std::optional<NodePair> pairWithin(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, double limit) {
   const PairTightening& tightening = tree.tightening;
   const PairTightening::Deferred deferred = tightening.deferred(index);
   if (deferred == PairTightening::Deferred::kNone) return directPairOf(tree, patches, index);
   if (tightening.known(index)) return tightening.cached(index);
+  const double above = tightening.provenAbove(index);
+  if (above > 0 && limit <= above) return std::nullopt;
   const Tightener tightener(tree, patches);
-  const NodePair pair = deferred == PairTightening::Deferred::kLeaf ? tightener.leaf(index) : tightener.internal(index);
-  tightening.publish(index, pair);
+  const std::optional<NodePair> pair =
+      deferred == PairTightening::Deferred::kLeaf ? tightener.leaf(index, limit) : tightener.internal(index, limit);
+  if (!pair) {
+    tightening.raiseProvenAbove(index, limit);
+    return std::nullopt;
+  }
+  tightening.publish(index, *pair);
   return pair;
+}
+
+NodePair pairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
+  return *pairWithin(tree, patches, index, INFINITY);
 }
 
 }  // namespace tessera

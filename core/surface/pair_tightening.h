@@ -10,12 +10,15 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/base/vec3.h"
 #include "core/base/published_slots.h"
+#include "core/base/zeroed_slots.h"
 
 namespace tessera {
 
@@ -71,8 +74,18 @@ class PairTightening {
 
   Deferred deferred(uint32_t node) const { return deferred_[node]; }
   // Whether tightening `node` could bring its pair within `epsilon`; false guarantees that the
-  // tightened pair is above it.
-  bool mayReach(uint32_t node, double epsilon) const { return lowerBounds_[node] <= epsilon * (1 + 1e-6); }
+  // tightened pair is above it (by the build's lower bound, or by a request that stopped
+  // tightening once the pair went past its own ε, provenAbove).
+  bool mayReach(uint32_t node, double epsilon) const {
+    const double above = provenAbove(node);
+    return lowerBounds_[node] <= epsilon * (1 + 1e-6) && !(above > 0 && epsilon <= above);
+  }
+  // A value the node's tightened pair is known to exceed; 0: none known.
+  double provenAbove(uint32_t node) const {
+    return std::atomic_ref(provenAbove_[node]).load(std::memory_order_relaxed);
+  }
+  // Keeps that the tightened pair exceeds `limit` (the largest such value known wins).
+  void raiseProvenAbove(uint32_t node, double limit) const;
   bool known(uint32_t node) const { return pairs_.known(node); }
   NodePair cached(uint32_t node) const { return pairs_[node]; }
   // Publishes `pair` as node's tightened bounds unless another thread did first.
@@ -89,6 +102,7 @@ class PairTightening {
   // What requests compute, per node: written for the few nodes a request reads.
   PublishedSlots<NodePair> pairs_;
   PublishedSlots<DirectBounds> direct_;
+  ZeroedSlots<double> provenAbove_;
   std::vector<float> lowerBounds_;
   std::vector<Deferred> deferred_;
 };
@@ -101,5 +115,10 @@ NodePair directPairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t
 
 // The final pair bounds of any node of `tree`: tightened on first read where deferred.
 NodePair pairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
+// The same where the final pair can be within `limit`; none where it is proven above it. The
+// tightening then stops as soon as every bound it takes the least of is past the limit (most
+// nodes a plan tightens are still too coarse after it, and split), and keeps only that fact
+// (provenAbove): a plan, which compares the pair with its ε, is the same either way.
+std::optional<NodePair> pairWithin(const SurfaceTree& tree, const PatchSet& patches, uint32_t node, double limit);
 
 }  // namespace tessera
