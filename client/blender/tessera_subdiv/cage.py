@@ -1,6 +1,9 @@
 """The control cage of a Blender object as Tessera's arrays: positions turned from Blender's Z-up
 into glTF's Y-up, faces, creases and corners from Blender's crease values, UVs from the active
-layer, and the Subdivision modifier's boundary and UV rules."""
+layer, and the Subdivision modifier's boundary and UV rules. Live mode reads the evaluated cage
+(what the Subdivision modifier would be given: shape keys, armatures, the edit mesh) and compares
+topology signatures to tell a position-only edit from a change of topology."""
+import hashlib
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
@@ -65,10 +68,10 @@ def _vertex_creases(mesh) -> List[float]:
     return [0.0] * len(mesh.vertices)
 
 
-def read_cage(obj) -> Cage:
-    """The object's own mesh (its modifiers not applied) with the first Subdivision modifier's
-    rules; creases only when that modifier uses them."""
-    mesh = obj.data
+def read_cage(obj, mesh=None) -> Cage:
+    """The object's own mesh (its modifiers not applied), or `mesh` (the evaluated cage), with the
+    first Subdivision modifier's rules; creases only when that modifier uses them."""
+    mesh = obj.data if mesh is None else mesh
     cage = Cage()
     for v in mesh.vertices:
         cage.positions.extend(to_y_up(*v.co))
@@ -99,3 +102,41 @@ def read_cage(obj) -> Cage:
                     cage.uvs.extend(key[1])
                 cage.uv_indices.append(index[key])
     return cage
+
+
+def topology_signature(cage: Cage) -> str:
+    """What the server's topology cache is keyed by (docs/DECISIONS.md, "Edits reuse topology"):
+    faces, creases, corners, rules, UV indices and the vertex and UV-value counts; not the
+    positions or the UV values. Equal signatures: an edit that only moved vertices (or UVs)."""
+    return hashlib.sha256(repr((len(cage.positions), cage.face_sizes, cage.face_vertices, cage.creases,
+                                cage.corners, len(cage.uvs), cage.uv_indices, cage.boundary,
+                                cage.uv_interpolation)).encode()).hexdigest()
+
+
+class CageError(Exception):
+    """The evaluated cage cannot be read as the Subdivision modifier's input."""
+
+
+def evaluated_cage(obj, depsgraph) -> Cage:
+    """The cage as the object's first Subdivision modifier receives it: the edit mesh in edit mode,
+    shape keys, armatures and the modifiers above it applied. Live mode hides that modifier in the
+    viewport (its result is `<name>_tessera`), so the evaluated object is its input, provided no
+    modifier below it is shown in the viewport."""
+    modifier = subdivision_modifier(obj)
+    if modifier is None:
+        raise CageError(f"{obj.name} has no Subdivision Surface modifier")
+    if modifier.show_viewport:
+        raise CageError(f"{obj.name}'s Subdivision modifier is shown in the viewport (live mode hides it)")
+    below = obj.modifiers[list(obj.modifiers).index(modifier) + 1:]
+    shown = [m.name for m in below if m.show_viewport]
+    if shown:
+        raise CageError("live mode needs the Subdivision modifier last among the modifiers shown in the viewport; "
+                        "below it: " + ", ".join(shown))
+    evaluated = obj.evaluated_get(depsgraph)
+    # Without arguments: to_mesh(preserve_all_data_layers=True, depsgraph=...) evaluates the
+    # original mesh again, which in edit mode is not the edit mesh (Blender 3.4).
+    mesh = evaluated.to_mesh()
+    try:
+        return read_cage(obj, mesh)
+    finally:
+        evaluated.to_mesh_clear()

@@ -80,6 +80,12 @@ def read_glb(glb: bytes) -> dict:
 
 def build_mesh(bpy, name: str, glb: bytes):
     """A new Blender mesh datablock from the GLB."""
+    return mesh_from(bpy, name, prepare_mesh(glb))
+
+
+def prepare_mesh(glb: bytes) -> dict:
+    """The GLB read and its vertices welded: NumPy only, no bpy, so live mode does it on its worker
+    thread and leaves only mesh_from to Blender's."""
     data = read_glb(glb)
     positions, indices = data["positions"], data["indices"]
     # Weld: the GLB's copies repeat their vertex's position bit for bit.
@@ -87,10 +93,16 @@ def build_mesh(bpy, name: str, glb: bytes):
     _, weld = np.unique(keys, return_inverse=True)
     first = np.full(weld.max() + 1 if len(weld) else 0, len(weld), dtype=np.int64)
     np.minimum.at(first, weld, np.arange(len(weld)))
-    vertices = positions[first]
-    triangles = weld[indices].reshape(-1, 3)
+    data["vertices"] = positions[first]
+    data["triangles"] = weld[indices].reshape(-1, 3)
+    return data
+
+
+def mesh_from(bpy, name: str, data: dict):
+    """A new Blender mesh datablock from prepare_mesh's arrays."""
+    indices = data["indices"]
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(vertices.tolist(), [], triangles.tolist())
+    mesh.from_pydata(data["vertices"].tolist(), [], data["triangles"].tolist())
     # Per face corner, what the GLB vertex of that corner carried (loops follow the triangles).
     corner_vertices = indices.reshape(-1, 3)
     loop_sources = np.zeros(len(mesh.loops), dtype=np.int64)
