@@ -274,11 +274,14 @@ def _send(session: LiveSession, obj, preferences) -> None:
     """Reads the evaluated cage and what is asked, and hands them to the worker, unless the server
     was asked exactly that last time."""
     captured_at = time.perf_counter()
+    # Evaluating runs the depsgraph handler for what is still tagged (a property just set): those
+    # changes are in this send.
+    depsgraph = bpy.context.evaluated_depsgraph_get()
     changed_at, reasons = session.changed_at, session.reasons
     session.changed_at, session.reasons = None, []
     settings = obj.tessera
     try:
-        cage = evaluated_cage(obj, bpy.context.evaluated_depsgraph_get())
+        cage = evaluated_cage(obj, depsgraph)
         if not cage.face_sizes:
             raise TesseraError(f"{obj.name} has no faces")
         accuracy = Accuracy(settings.mode, settings.tolerance, settings.pixel_accuracy)
@@ -312,8 +315,7 @@ def _show(session: LiveSession, obj, outcome: Outcome) -> None:
               "capture_s": job.capture_s, "upload_s": outcome.upload_s, "tessellate_s": outcome.tessellate_s,
               "decode_s": outcome.decode_s}
     if outcome.error is not None:
-        session.error = outcome.error
-        session.sent_key = None  # the next change asks again
+        session.error = outcome.error  # the same request is not sent again until something changes
         record["error"] = outcome.error
     else:
         start = time.perf_counter()
