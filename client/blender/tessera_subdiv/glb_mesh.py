@@ -111,7 +111,10 @@ def mesh_from(bpy, name: str, data: dict):
     mesh.loops.foreach_set("vertex_index", triangles.astype(np.int32).reshape(-1))
     mesh.polygons.add(len(triangles))
     mesh.polygons.foreach_set("loop_start", np.arange(0, triangles.size, 3, dtype=np.int32))
-    mesh.polygons.foreach_set("loop_total", np.full(len(triangles), 3, dtype=np.int32))
+    try:
+        mesh.polygons.foreach_set("loop_total", np.full(len(triangles), 3, dtype=np.int32))
+    except (AttributeError, TypeError, RuntimeError):  # read-only from Blender 3.6: sizes follow from loop_start
+        pass
     mesh.update(calc_edges=True)
     # Loop 3 t + k is corner k of triangle t: what the GLB vertex of that corner carried.
     if data["uvs"] is not None:

@@ -11,6 +11,7 @@ an edit made during a request is sent, with whatever followed it, once that requ
 """
 import threading
 import time
+import traceback
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
@@ -43,7 +44,8 @@ class Job:
     generation: int
     identifier: str
     cage: Cage
-    same_topology_as: Optional[str]
+    same_topology_as: Optional[str]  # the mesh last uploaded, when this cage has its topology
+    uvs_changed: bool                # since that mesh
     accuracy: Accuracy
     server: str
     token: str
@@ -134,7 +136,7 @@ class Worker:
             client = self._client_for(job.server, job.token)
             start = time.perf_counter()
             outcome.upload = upload_cage(client, job.identifier, job.cage, job.display_name, job.timeout,
-                                         same_topology_as=job.same_topology_as)
+                                         same_topology_as=job.same_topology_as, uvs_changed=job.uvs_changed)
             uploaded = time.perf_counter()
             result = tessellate_cage(client, job.identifier, job.accuracy, job.encoding, job.timeout)
             tessellated = time.perf_counter()
@@ -160,6 +162,7 @@ class LiveSession:
     sent_key: Optional[tuple] = None     # the last request sent: the cage's id and what was asked
     sent_signature: Optional[str] = None  # the topology signature of the last cage uploaded
     sent_identifier: Optional[str] = None
+    sent_uvs: Optional[list] = None
     seen_view: object = None             # the viewport's view when tick() last looked
     applied: int = 0                     # the generation shown by `<name>_tessera`
     applied_job: Optional[Job] = None
@@ -228,15 +231,18 @@ def stop_all() -> None:
 
 
 def _object_of(session: LiveSession):
+    """The session's object: by name (an undo may have moved it in memory), else by address (it
+    was renamed: the session follows it)."""
     obj = bpy.data.objects.get(session.name)
-    if obj is not None and obj.as_pointer() == session.pointer:
-        return obj
-    renamed = next((o for o in bpy.data.objects if o.as_pointer() == session.pointer), None)
-    if renamed is not None:  # renamed since: the session follows it
-        _sessions.pop(session.name, None)
-        session.name = renamed.name
-        _sessions[renamed.name] = session
-    return renamed
+    if obj is None:
+        obj = next((o for o in bpy.data.objects if o.as_pointer() == session.pointer), None)
+        if obj is not None:
+            _sessions.pop(session.name, None)
+            session.name = obj.name
+            _sessions[obj.name] = session
+    if obj is not None:
+        session.pointer = obj.as_pointer()
+    return obj
 
 
 def tick() -> Optional[float]:
@@ -248,7 +254,11 @@ def tick() -> Optional[float]:
             session.worker.stop()
             _sessions.pop(session.name, None)
             continue
-        _tick_session(session, obj)
+        try:
+            _tick_session(session, obj)
+        except Exception as error:  # noqa: BLE001 (an exception would end Blender's timer: shown, and live goes on)
+            traceback.print_exc()
+            session.error = f"live mode: {type(error).__name__}: {error}"
     return TICK_SECONDS if _sessions else None
 
 
@@ -299,11 +309,13 @@ def _send(session: LiveSession, obj, preferences) -> None:
         return  # a frame or an update that left the cage as it was
     signature = topology_signature(cage)
     same_topology_as = session.sent_identifier if signature == session.sent_signature else None
+    uvs_changed = cage.uvs != session.sent_uvs
     session.generation += 1
     session.sent_key, session.sent_signature, session.sent_identifier = key, signature, identifier
-    session.worker.submit(Job(session.generation, identifier, cage, same_topology_as, accuracy, preferences.server,
-                              preferences.token, encoding, obj.name, reasons, changed_at, captured_at,
-                              time.perf_counter() - captured_at))
+    session.sent_uvs = cage.uvs
+    session.worker.submit(Job(session.generation, identifier, cage, same_topology_as, uvs_changed, accuracy,
+                              preferences.server, preferences.token, encoding, obj.name, reasons, changed_at,
+                              captured_at, time.perf_counter() - captured_at))
 
 
 def _show(session: LiveSession, obj, outcome: Outcome) -> None:
@@ -311,7 +323,8 @@ def _show(session: LiveSession, obj, outcome: Outcome) -> None:
     panel with the last good result kept."""
     job = outcome.job
     record = {"generation": job.generation, "reasons": job.reasons, "mode": job.accuracy.mode,
-              "same_topology": job.same_topology_as is not None, "upload": outcome.upload,
+              "same_topology": job.same_topology_as is not None, "uvs_changed": job.uvs_changed,
+              "upload": outcome.upload,
               "capture_s": job.capture_s, "upload_s": outcome.upload_s, "tessellate_s": outcome.tessellate_s,
               "decode_s": outcome.decode_s}
     if outcome.error is not None:
@@ -348,6 +361,9 @@ def on_depsgraph_update(scene, depsgraph) -> None:
         original = update.id.original
         if not isinstance(original, bpy.types.Object):
             continue
+        if original == scene.camera and update.is_updated_transform:
+            for session in _sessions.values():  # pixel mode without a 3D viewport follows the scene camera
+                session.note_change("camera")
         session = _sessions.get(original.name)
         if session is None:
             continue
@@ -366,6 +382,13 @@ def on_frame_change(scene, depsgraph=None) -> None:
 
 
 @persistent
+def on_undo(*_args) -> None:
+    """An undo or redo may put back another cage (a send only if it did)."""
+    for session in _sessions.values():
+        session.note_change("undo")
+
+
+@persistent
 def on_load_pre(*_args) -> None:
     stop_all()
 
@@ -380,6 +403,8 @@ def on_load_post(*_args) -> None:
 
 _HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
              (bpy.app.handlers.frame_change_post, on_frame_change),
+             (bpy.app.handlers.undo_post, on_undo),
+             (bpy.app.handlers.redo_post, on_undo),
              (bpy.app.handlers.load_pre, on_load_pre),
              (bpy.app.handlers.load_post, on_load_post))
 

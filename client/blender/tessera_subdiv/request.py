@@ -83,16 +83,18 @@ class Accuracy:
 
 
 def upload_cage(client, identifier: str, cage: Cage, display_name: str, timeout: float,
-                same_topology_as: Optional[str] = None) -> str:
+                same_topology_as: Optional[str] = None, uvs_changed: bool = True) -> str:
     """Uploads the cage as `identifier` unless the server has it. `same_topology_as` names the
     mesh this session uploaded last when the add-on found the topology unchanged since
-    (cage.topology_signature): that is where a positions-only upload (issue 48, item 2) plugs in.
-    The Python client has none yet, so the full cage is sent, and the server's topology cache
-    makes its preprocessing the cheap path (tessera_topology_cache_hits_total). Returns what was
-    sent: "full", or "none" for a cage the server already had."""
+    (cage.topology_signature), and `uvs_changed` says whether the UV values differ from that
+    mesh's: that is where a positions-only upload (issue 48, item 2: the positions, and the UVs
+    if they changed) plugs in. The Python client has none yet, so the full cage is sent, and the
+    server's topology cache makes its preprocessing the cheap path
+    (tessera_topology_cache_hits_total). Returns what was sent: "full", or "none" for a cage the
+    server already had."""
     from tessera_client import TesseraError as ClientError  # noqa: PLC0415
     import grpc  # noqa: PLC0415
-    del same_topology_as  # until the client can upload positions only
+    del same_topology_as, uvs_changed  # until the client can upload positions only
     try:
         client.upload_arrays(identifier, cage.positions, cage.face_sizes, cage.face_vertices, creases=cage.creases,
                              corners=cage.corners, display_name=display_name, boundary=cage.boundary,
