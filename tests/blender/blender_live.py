@@ -134,6 +134,46 @@ def crease_an_edge(mesh):
     next(e for e in mesh.edges if e[layer] == 0)[layer] = 0.5
 
 
+def shift_uvs_of_a_vertex(mesh):
+    """Every corner of vertex 0 that carries its first UV moves with it: new UV values, the same
+    UV indices."""
+    layer = mesh.loops.layers.uv.active
+    corners = [loop for loop in mesh.verts[0].link_loops]
+    first = corners[0][layer].uv.copy()
+    for loop in corners:
+        if loop[layer].uv == first:
+            loop[layer].uv += Vector((0.01, 0.02))
+
+
+class PanelLayout:
+    """Records what the panel's draw() puts on screen (background mode draws no panels)."""
+
+    def __init__(self):
+        self.labels, self.alert = [], False
+
+    def prop(self, *args, **kwargs):
+        pass
+
+    def operator(self, *args, **kwargs):
+        pass
+
+    def row(self):
+        return self
+
+    def column(self):
+        return self
+
+    def label(self, text="", icon="NONE"):
+        self.labels.append(text)
+
+
+def panel_labels(tessera_subdiv):
+    layout = PanelLayout()
+    panel = type("Panel", (), {"layout": layout})()
+    tessera_subdiv.TESSERA_PT_panel.draw(panel, bpy.context)
+    return layout.labels
+
+
 def topology_counters(metrics_address):
     return metric(metrics_address, HITS), metric(metrics_address, BUILT)
 
@@ -160,6 +200,7 @@ def main():
     try:
         bpy.ops.wm.read_factory_settings(use_empty=True)
         addon_utils.enable("tessera_subdiv", default_set=True)
+        import tessera_subdiv
         from tessera_subdiv import live
         from tessera_subdiv.cage import read_cage, to_y_up
         from tessera_subdiv.viewport import active_viewport_view
@@ -183,7 +224,7 @@ def main():
         target.modifiers.new("Kept", "WEIGHTED_NORMAL")
 
         # Ten vertex moves in edit mode: the same topology each time, which the server reuses.
-        bpy.context.view_layer.objects.active = cube
+        bpy.context.view_layer.objects.active = cube  # the panel draws the active object's
         bpy.ops.object.mode_set(mode="EDIT")
         driver.settle()  # entering edit mode leaves the cage as it was: nothing is sent
         before = topology_counters(metrics_address)
@@ -194,6 +235,17 @@ def main():
             assert record["same_topology"] and not record["uvs_changed"] and record["upload"] == "full", record
             records.append(record)
         report["moves"] = check_reuse("ten moves", before, topology_counters(metrics_address), 10)
+
+        # A UV edit: new UV values on the same topology (the positions-only upload would carry
+        # them), whose preprocessing reuses it too.
+        before = topology_counters(metrics_address)
+        edit_mesh(cube, shift_uvs_of_a_vertex)
+        driver.noticed("UV edit")
+        record = driver.update("UV edit")
+        assert record["same_topology"] and record["uvs_changed"], record
+        report["uv_edit"] = check_reuse("UV edit", before, topology_counters(metrics_address), 1)
+        assert report["uv_edit"]["topology_cache_hits"] == 1
+        records.append(record)
 
         # One crease change: a new topology, built.
         before = topology_counters(metrics_address)
@@ -261,10 +313,18 @@ def main():
         # A request the server refuses: its message shown, the last good mesh kept.
         cube.tessera.mode, cube.tessera.tolerance = "RELATIVE", 1e-9
         driver.update("refused tolerance", expect_error="min_relative_tolerance")
+        labels = panel_labels(tessera_subdiv)
+        assert any("min_relative_tolerance" in label for label in labels), labels
         # Back to the tolerance: the final mesh, measured by run_live.sh.
         cube.tessera.tolerance = TOLERANCE
         records.append(driver.update("relative again"))
         assert driver.session.error is None
+        # The panel: triangles, the proven bound and the round trip of what Cage_tessera shows.
+        labels = panel_labels(tessera_subdiv)
+        summary = driver.session.summary
+        assert f"{summary.triangles:,} triangles, within {summary.guaranteed_bound:.3g}" in labels, labels
+        assert f"Round trip {1000 * driver.session.round_trip_s:.0f} ms" in labels, labels
+        print("panel:", labels)
 
         target = bpy.data.objects["Cage_tessera"]
         assert target.data.materials[:] == [material] and "Kept" in target.modifiers
