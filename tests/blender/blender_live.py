@@ -22,6 +22,7 @@ What background mode changes, and how the test stands in for it:
 Arguments after "--": OUT_DIR SERVER_BINARY."""
 import dataclasses
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -296,6 +297,22 @@ def main():
         assert startup_view is not None and startup_view.perspective, "the startup layout has no 3D viewport"
         far = driver.update("pixel mode, the viewport's view")
         assert driver.session.seen_view == startup_view
+        # The camera sent, against the viewport's own navigation state: the eye at view_distance
+        # behind view_location along the view rotation's +Z, and the field of view of Blender's
+        # viewport lens (a 72 mm sensor across the wider side: 36 mm at zoom 2).
+        area = next(a for w in bpy.context.window_manager.windows for a in w.screen.areas if a.type == "VIEW_3D")
+        space = area.spaces.active
+        region_3d = space.region_3d
+        eye_world = region_3d.view_location + region_3d.view_rotation @ Vector((0.0, 0.0, region_3d.view_distance))
+        sent_camera = driver.session.applied_job.accuracy.camera
+        expected_eye = to_y_up(*(cube.matrix_world.inverted() @ eye_world))
+        assert max(abs(a - b) for a, b in zip(sent_camera.eye, expected_eye)) < 1e-3, (sent_camera.eye, expected_eye)
+        region = next(r for r in area.regions if r.type == "WINDOW")
+        half_wide = math.atan(36.0 / space.lens)
+        half_y = half_wide if region.height > region.width else \
+            math.atan(math.tan(half_wide) * region.height / region.width)
+        assert abs(sent_camera.fov_y_deg - math.degrees(2 * half_y)) < 1e-3, (sent_camera.fov_y_deg, half_y)
+        assert (sent_camera.width, sent_camera.height) == (region.width, region.height)
         eye = Matrix([startup_view.view_matrix[i:i + 4] for i in (0, 4, 8, 12)]).inverted().translation
         centre = cube.matrix_world @ Vector((0.0, 0.0, 0.0))
         closer = look_at(centre + (eye - centre) / 4, centre)

@@ -383,9 +383,13 @@ def on_frame_change(scene, depsgraph=None) -> None:
 
 @persistent
 def on_undo(*_args) -> None:
-    """An undo or redo may put back another cage (a send only if it did)."""
+    """An undo or redo may put back another cage (a send only if it did), or the Live toggle
+    itself (set back without its update callback)."""
     for session in _sessions.values():
         session.note_change("undo")
+    for obj in bpy.data.objects:
+        if obj.type == "MESH" and obj.tessera.live and obj.name not in _sessions:
+            start(obj)
 
 
 @persistent
