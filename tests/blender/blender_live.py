@@ -290,6 +290,45 @@ def main():
         assert max(abs(a - b) for a, b in zip(sent.positions, expected)) < 1e-6, "the sent cage is not frame 5's"
         assert len(sent.creases) == creases
 
+        # An armature: its modifier added below the Subdivision one is refused (the error shown,
+        # the last mesh kept); moved above it, the cage is sent again; a pose moves the cage.
+        armature = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
+        scene.collection.objects.link(armature)
+        bpy.context.view_layer.objects.active = armature
+        bpy.ops.object.mode_set(mode="EDIT")
+        bone = armature.data.edit_bones.new("Bone")
+        bone.head, bone.tail = (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)
+        bpy.ops.object.mode_set(mode="OBJECT")
+        cube.vertex_groups.new(name="Bone").add(range(len(cube.data.vertices)), 1.0, "REPLACE")
+        cube.modifiers.new("Armature", "ARMATURE").object = armature
+        shown = driver.target.data.as_pointer()
+        bpy.context.view_layer.update()
+        driver.noticed("armature below")
+        driver.settle()
+        assert "Subdivision modifier last" in driver.session.error, driver.session.error
+        assert driver.target.data.as_pointer() == shown and len(driver.session.history) == len(records)
+        bpy.context.view_layer.objects.active = cube
+        bpy.ops.object.modifier_move_to_index(modifier="Armature", index=0)
+        bpy.context.view_layer.update()
+        driver.noticed("armature above")
+        records.append(driver.update("armature above the Subdivision modifier"))
+        rest = list(driver.session.applied_job.cage.positions)
+        before = topology_counters(metrics_address)
+        armature.pose.bones["Bone"].location = (0.3, 0.2, -0.1)  # the bone's frame: +Y along its length
+        bpy.context.view_layer.update()
+        driver.noticed("pose")
+        record = driver.update("armature posed")
+        assert record["same_topology"], record
+        report["pose"] = check_reuse("pose", before, topology_counters(metrics_address), 1)
+        records.append(record)
+        # Every vertex moved by the bone's head, from the armature's frame to the cube's, Y-up.
+        pose = armature.pose.bones["Bone"]
+        offset = cube.matrix_world.inverted().to_3x3() @ (armature.matrix_world.to_3x3() @
+                                                           (pose.head - pose.bone.head_local))
+        offset = to_y_up(*offset)
+        posed = driver.session.applied_job.cage.positions
+        assert max(abs(p - r - offset[i % 3]) for i, (p, r) in enumerate(zip(posed, rest))) < 1e-5, offset
+
         # Pixel mode: the active viewport's view (the startup layout's, read by the add-on), then
         # the view four times closer: more triangles for the same cage.
         cube.tessera.mode = "PIXEL"

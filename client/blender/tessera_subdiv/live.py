@@ -300,6 +300,7 @@ def _send(session: LiveSession, obj, preferences) -> None:
             accuracy.camera = viewport_camera(obj, view) if view is not None else scene_camera(bpy.context.scene, obj)
     except (CageError, TesseraError) as error:
         session.error = str(error)
+        session.sent_key = None  # once it can be read again, it is sent (which clears the error)
         _redraw()
         return
     encoding = glb_encoding(preferences.server, preferences.encoding)
