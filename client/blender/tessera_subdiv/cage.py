@@ -156,6 +156,11 @@ def evaluated_cage(obj, depsgraph) -> Cage:
     if shown:
         raise CageError("live mode needs the Subdivision modifier last among the modifiers shown in the viewport; "
                         "below it: " + ", ".join(shown))
+    others = [m for m in obj.modifiers if m != modifier and m.show_viewport]
+    if obj.mode == "SCULPT" and not others and obj.data.shape_keys is None:
+        # A brush stroke writes into the mesh itself and may tag only a redraw until it ends:
+        # with nothing between mesh and cage, the mesh is the cage.
+        return read_cage(obj)
     evaluated = obj.evaluated_get(depsgraph)
     # Without arguments: to_mesh(preserve_all_data_layers=True, depsgraph=...) evaluates the
     # original mesh again, which in edit mode is not the edit mesh (Blender 3.4).

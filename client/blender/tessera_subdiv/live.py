@@ -251,8 +251,11 @@ def tick() -> Optional[float]:
     for session in list(_sessions.values()):
         obj = _object_of(session)
         if obj is None or not obj.tessera.live:
-            session.worker.stop()
-            _sessions.pop(session.name, None)
+            if obj is not None:
+                stop(obj)  # Live set off without its update callback (from a script)
+            else:
+                session.worker.stop()
+                _sessions.pop(session.name, None)
             continue
         try:
             _tick_session(session, obj)
@@ -370,6 +373,8 @@ def on_depsgraph_update(scene, depsgraph) -> None:
             continue
         if update.is_updated_geometry:
             session.note_change("geometry")
+        elif update.is_updated_shading and original.mode == "SCULPT":
+            session.note_change("sculpt")  # a stroke redraws through the sculpt's own buffers first
         elif update.is_updated_transform and original.tessera.mode == "PIXEL":
             session.note_change("transform")
 
