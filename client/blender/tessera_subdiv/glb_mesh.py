@@ -80,6 +80,12 @@ def read_glb(glb: bytes) -> dict:
 
 def build_mesh(bpy, name: str, glb: bytes):
     """A new Blender mesh datablock from the GLB."""
+    return mesh_from(bpy, name, prepare_mesh(glb))
+
+
+def prepare_mesh(glb: bytes) -> dict:
+    """The GLB read and its vertices welded: NumPy only, no bpy, so live mode does it on its worker
+    thread and leaves only mesh_from to Blender's."""
     data = read_glb(glb)
     positions, indices = data["positions"], data["indices"]
     # Weld: the GLB's copies repeat their vertex's position bit for bit.
@@ -87,38 +93,66 @@ def build_mesh(bpy, name: str, glb: bytes):
     _, weld = np.unique(keys, return_inverse=True)
     first = np.full(weld.max() + 1 if len(weld) else 0, len(weld), dtype=np.int64)
     np.minimum.at(first, weld, np.arange(len(weld)))
-    vertices = positions[first]
-    triangles = weld[indices].reshape(-1, 3)
+    data["vertices"] = positions[first]
+    data["triangles"] = weld[indices].reshape(-1, 3)
+    # normals_split_custom_set takes a sequence of vectors: made here, off Blender's thread in live mode.
+    data["corner_normals"] = data["normals"][indices].tolist()
+    return data
+
+
+def mesh_from(bpy, name: str, data: dict):
+    """A new Blender mesh datablock from prepare_mesh's arrays, filled through foreach_set (array
+    copies; live mode runs this on Blender's thread)."""
+    vertices, triangles, corners = data["vertices"], data["triangles"], data["indices"]
     mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata(vertices.tolist(), [], triangles.tolist())
-    # Per face corner, what the GLB vertex of that corner carried (loops follow the triangles).
-    corner_vertices = indices.reshape(-1, 3)
-    loop_sources = np.zeros(len(mesh.loops), dtype=np.int64)
-    for polygon in mesh.polygons:
-        loop_sources[polygon.loop_start:polygon.loop_start + 3] = corner_vertices[polygon.index]
+    mesh.vertices.add(len(vertices))
+    mesh.vertices.foreach_set("co", vertices.astype(np.float32).reshape(-1))
+    mesh.loops.add(triangles.size)
+    mesh.loops.foreach_set("vertex_index", triangles.astype(np.int32).reshape(-1))
+    mesh.polygons.add(len(triangles))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, triangles.size, 3, dtype=np.int32))
+    try:
+        mesh.polygons.foreach_set("loop_total", np.full(len(triangles), 3, dtype=np.int32))
+    except (AttributeError, TypeError, RuntimeError):  # read-only from Blender 3.6: sizes follow from loop_start
+        pass
+    mesh.update(calc_edges=True)
+    # Loop 3 t + k is corner k of triangle t: what the GLB vertex of that corner carried.
     if data["uvs"] is not None:
         layer = mesh.uv_layers.new(name="UVMap")
-        layer.data.foreach_set("uv", data["uvs"][loop_sources].reshape(-1))
+        layer.data.foreach_set("uv", data["uvs"][corners].astype(np.float32).reshape(-1))
     if hasattr(mesh, "use_auto_smooth"):  # Blender before 4.1: custom normals need it
         mesh.use_auto_smooth = True
         mesh.auto_smooth_angle = 3.14159
-    mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
-    mesh.normals_split_custom_set(data["normals"][loop_sources].tolist())
-    _mark_sharp_edges(mesh, data["normals"], loop_sources)
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(triangles), dtype=bool))
+    mesh.normals_split_custom_set(data["corner_normals"])
+    _mark_sharp_edges(mesh, data["normals"], corners)
     mesh.update()
     return mesh
 
 
 def _mark_sharp_edges(mesh, normals, loop_sources) -> None:
-    """An edge is sharp where the faces on it carry different normals at one of its ends."""
-    ends = {}  # edge -> {vertex: the normals its faces' corners carry there}
-    for polygon in mesh.polygons:
-        loops = list(range(polygon.loop_start, polygon.loop_start + polygon.loop_total))
-        for i, loop in enumerate(loops):
-            edge = mesh.loops[loop].edge_index
-            for corner in (loop, loops[(i + 1) % len(loops)]):
-                normal = tuple(normals[loop_sources[corner]])
-                ends.setdefault(edge, {}).setdefault(mesh.loops[corner].vertex_index, set()).add(normal)
-    for edge, at in ends.items():
-        if any(len(found) > 1 for found in at.values()):
-            mesh.edges[edge].use_edge_sharp = True
+    """An edge is sharp where the faces on it carry different normals at one of its ends: each
+    loop's edge runs from its vertex to the next loop's, so each loop gives its edge the normal of
+    its corner at its own end, and the next corner's at the other."""
+    loops = len(mesh.loops)
+    if loops == 0:
+        return
+    edge, vertex = np.empty(loops, dtype=np.int64), np.empty(loops, dtype=np.int64)
+    mesh.loops.foreach_get("edge_index", edge)
+    mesh.loops.foreach_get("vertex_index", vertex)
+    edge_vertices = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", edge_vertices)
+    first = edge_vertices[0::2]
+    next_loop = np.arange(loops) + 1
+    next_loop[2::3] -= 3  # triangles: the corner after the third is the first
+    keys = np.ascontiguousarray(normals.astype(np.float64)).view(np.dtype((np.void, 24))).reshape(-1)
+    _, normal_id = np.unique(keys, return_inverse=True)
+    corner_normal = normal_id.reshape(-1)[loop_sources]
+    # An edge's end as one number (2 edge + 0 at its first vertex, 1 at its second), and with the
+    # normal carried there as another: ends with more than one distinct normal make a sharp edge.
+    end = np.concatenate([2 * edge + (vertex != first[edge]), 2 * edge + (vertex[next_loop] != first[edge])])
+    carried = end * (int(normal_id.max()) + 1) + np.concatenate([corner_normal, corner_normal[next_loop]])
+    distinct_ends = np.unique(carried) // (int(normal_id.max()) + 1)
+    normals_at_end = np.bincount(distinct_ends, minlength=2 * len(mesh.edges))
+    sharp = (normals_at_end[0::2] > 1) | (normals_at_end[1::2] > 1)
+    mesh.edges.foreach_set("use_edge_sharp", sharp)
