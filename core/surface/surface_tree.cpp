@@ -294,7 +294,12 @@ void TreeBuilder::setBox(uint32_t index, const ChainStep* step) {
 // Returns ‖g − B‖ and g's bows from the chords, which are a leaf's own bounds (keepOwn).
 TreeBuilder::BilinearGap TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const {
   node.standInBound = roundUp(fit.r);
-  setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
+  // An exact leaf is its own stand-in: its curvature is g's (summarizeLeaf).
+  if (node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf) {
+    std::copy(node.curvature, node.curvature + 3, node.standInCurvature);
+  } else {
+    setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
+  }
   const Vec3d twist = fit.corners[0] - fit.corners[1] + fit.corners[2] - fit.corners[3];
   const BilinearGap gap = bilinearGap(fit.g, fit.corners);
   node.pairBound = roundUp((fit.r + gap.split + length(twist) / 4) * (1 + 1e-9));
