@@ -23,7 +23,9 @@ class TopologyMismatch : public std::runtime_error {
 // when they differ, the origin when there is one; and `local`'s rules in `rules`, which the
 // server checks against the stored mesh's. Throws TopologyMismatch naming the first difference
 // (counts, a face, a crease, a corner, a hole, a UV index).
-tessera::v1::MeshArrays positionsOnlyArrays(const ControlMesh& local, const std::string& source, const std::string& name,
-                                            const tessera::v1::MeshArrays& stored, tessera::v1::SubdivisionOptions* rules);
+tessera::v1::MeshArrays positionsOnlyArrays(const ControlMesh& local, const std::string& source,
+                                            const std::string& name,
+                                            const tessera::v1::MeshArrays& stored,
+                                            tessera::v1::SubdivisionOptions* rules);
 
 }  // namespace tessera::cli

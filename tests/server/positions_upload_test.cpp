@@ -3,11 +3,10 @@
 // documented encoding, the arrays downloaded, the GLB of another server that got the full upload),
 // it survives a restart and its parent's deletion, the counts are checked, every refusal names
 // the problem, and the edited mesh's first tessellation reuses the kept topology.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "tests/server/store_fixture.h"
 
@@ -18,17 +17,17 @@ using PositionsUploadTest = StoreTest;
 
 // The messages of a positions-only upload: the header naming the topology's mesh, then the
 // positions in chunks that end inside vertices, then the UVs (if any) and the origin (if set).
-std::vector<v1::UploadMeshRequest> positionsUpload(const std::string& id, const std::string& topologyOf,
-                                                   const std::vector<float>& positions,
-                                                   const std::vector<float>& uvs = {},
-                                                   const std::array<double, 3>& origin = {0, 0, 0}) {
+std::vector<v1::UploadMeshRequest> positionsUpload(
+    const std::string& id, const std::string& topologyOf, const std::vector<float>& positions,
+    const std::vector<float>& uvs = {}, const std::array<double, 3>& origin = {0, 0, 0}) {
   const bool hasOrigin = origin[0] != 0 || origin[1] != 0 || origin[2] != 0;
   const int64_t bytes = 4 * int64_t(positions.size() + uvs.size()) + (hasOrigin ? 24 : 0);
   std::vector<v1::UploadMeshRequest> messages{headerMessage(id, v1::MESH_FORMAT_ARRAYS, bytes)};
   messages[0].mutable_header()->set_topology_of(topologyOf);
   for (size_t begin = 0; begin < positions.size(); begin += 1000) {
     v1::UploadMeshRequest chunk;
-    for (size_t i = begin; i < std::min(begin + 1000, positions.size()); ++i) chunk.mutable_arrays()->add_positions(positions[i]);
+    for (size_t i = begin; i < std::min(begin + 1000, positions.size()); ++i)
+      chunk.mutable_arrays()->add_positions(positions[i]);
     messages.push_back(chunk);
   }
   v1::UploadMeshRequest rest;
@@ -79,7 +78,9 @@ class WithBigguy : public PositionsUploadTest {
     ASSERT_FALSE(cage_.uvs.empty());  // the UV cases below need them
   }
 
-  UploadResult upload(const std::vector<v1::UploadMeshRequest>& messages) { return uploadMessages(*stub_, messages); }
+  UploadResult upload(const std::vector<v1::UploadMeshRequest>& messages) {
+    return uploadMessages(*stub_, messages);
+  }
 
   std::unique_ptr<ServerProcess> server_;
   std::unique_ptr<v1::MeshService::Stub> stub_;
@@ -132,7 +133,8 @@ TEST_P(WithBigguy, ItsGlbIsTheFullUploadsBitForBit) {
   ASSERT_EQ(fromPositions.problem, "");
 
   TempDir other;
-  auto fullServer = ServerProcess::start(other.path(), {"--store", "sqlite:" + (other.path() / "m.db").string()});
+  auto fullServer =
+      ServerProcess::start(other.path(), {"--store", "sqlite:" + (other.path() / "m.db").string()});
   ASSERT_TRUE(fullServer);
   auto fullStub = v1::MeshService::NewStub(fullServer->channel());
   ASSERT_TRUE(uploadMessages(*fullStub, arraysUpload("edit", edited)).status.ok());
@@ -140,7 +142,8 @@ TEST_P(WithBigguy, ItsGlbIsTheFullUploadsBitForBit) {
   Streamed fromFull = tessellateOverGrpc(*fullTessellation, requestAt("edit", 1e-3));
   ASSERT_TRUE(fromFull.status.ok()) << fromFull.status.error_message();
   EXPECT_GT(fromFull.glb.size(), 1000u);
-  EXPECT_TRUE(fromFull.glb == fromPositions.glb) << fromFull.glb.size() << " vs " << fromPositions.glb.size() << " bytes";
+  EXPECT_TRUE(fromFull.glb == fromPositions.glb)
+      << fromFull.glb.size() << " vs " << fromPositions.glb.size() << " bytes";
   // The other server preprocessed from scratch; this one through the kept topology.
   EXPECT_EQ(metric(*fullServer, "tessera_topology_cache_hits_total"), 0);
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_hits_total"), 1);
@@ -152,7 +155,8 @@ TEST_P(WithBigguy, UvsAreKeptUnlessSentAndTheOriginIsTheUploads) {
   MeshArrays edited = editedCage(cage_, 0.02f);
   for (float& c : edited.uvs) c = 0.5f * c + 0.25f;
   edited.origin = {100.0, -20.0, 3.5};
-  UploadResult result = upload(positionsUpload("newuvs", "meshes/bigguy", edited.positions, edited.uvs, edited.origin));
+  UploadResult result = upload(
+      positionsUpload("newuvs", "meshes/bigguy", edited.positions, edited.uvs, edited.origin));
   ASSERT_TRUE(result.status.ok()) << result.status.error_message();
   EXPECT_EQ(result.mesh.sha256(), sha256Hex(canonicalEncoding(edited)));
   grpc::Status status;
@@ -182,44 +186,65 @@ TEST_P(WithBigguy, MismatchesAndMissingMeshesAreRefusedNamingTheProblem) {
   more.insert(more.end(), {1, 2, 3});
   std::vector<float> uvsShort(cage_.uvs.begin(), cage_.uvs.end() - 2);
   std::vector<Case> cases = {
-      {"no such mesh", positionsUpload("x", "meshes/nope", positions), grpc::StatusCode::NOT_FOUND,
+      {"no such mesh",
+       positionsUpload("x", "meshes/nope", positions),
+       grpc::StatusCode::NOT_FOUND,
        {"header.topology_of", "meshes/nope", "not found"}},
-      {"a vertex too few", positionsUpload("x", "meshes/bigguy", fewer), grpc::StatusCode::INVALID_ARGUMENT,
-       {"arrays.positions", fmt::format("{} floats", floats - 3), "meshes/bigguy", fmt::format("{} vertices", floats / 3),
-        fmt::format("{} floats are needed", floats)}},
-      {"a vertex too many", positionsUpload("x", "meshes/bigguy", more), grpc::StatusCode::INVALID_ARGUMENT,
+      {"a vertex too few",
+       positionsUpload("x", "meshes/bigguy", fewer),
+       grpc::StatusCode::INVALID_ARGUMENT,
+       {"arrays.positions", fmt::format("{} floats", floats - 3), "meshes/bigguy",
+        fmt::format("{} vertices", floats / 3), fmt::format("{} floats are needed", floats)}},
+      {"a vertex too many",
+       positionsUpload("x", "meshes/bigguy", more),
+       grpc::StatusCode::INVALID_ARGUMENT,
        {"arrays.positions", fmt::format("{} floats", floats + 3), "meshes/bigguy"}},
-      {"no positions", positionsUpload("x", "meshes/bigguy", {}, cage_.uvs), grpc::StatusCode::INVALID_ARGUMENT,
+      {"no positions",
+       positionsUpload("x", "meshes/bigguy", {}, cage_.uvs),
+       grpc::StatusCode::INVALID_ARGUMENT,
        {"arrays.positions", "0 floats", "meshes/bigguy"}},
-      {"a UV too few", positionsUpload("x", "meshes/bigguy", positions, uvsShort), grpc::StatusCode::INVALID_ARGUMENT,
+      {"a UV too few",
+       positionsUpload("x", "meshes/bigguy", positions, uvsShort),
+       grpc::StatusCode::INVALID_ARGUMENT,
        {"arrays.uvs", fmt::format("{} numbers", uvsShort.size()), "meshes/bigguy",
         fmt::format("{} UV numbers", cage_.uvs.size())}},
-      {"a malformed name", positionsUpload("x", "bigguy", positions), grpc::StatusCode::INVALID_ARGUMENT,
+      {"a malformed name",
+       positionsUpload("x", "bigguy", positions),
+       grpc::StatusCode::INVALID_ARGUMENT,
        {"header.topology_of"}},
   };
   {
     auto messages = positionsUpload("x", "meshes/bigguy", positions);
     messages.back().mutable_arrays()->add_face_sizes(4);
     messages[0].mutable_header()->set_total_bytes(messages[0].header().total_bytes() + 4);
-    cases.push_back({"a topology array", messages, grpc::StatusCode::INVALID_ARGUMENT,
+    cases.push_back({"a topology array",
+                     messages,
+                     grpc::StatusCode::INVALID_ARGUMENT,
                      {"arrays.face_sizes", "meshes/bigguy", "positions-only"}});
   }
   {
     auto messages = objUpload("x", readFile(modelPath("bigguy.obj")));
     messages[0].mutable_header()->set_topology_of("meshes/bigguy");
-    cases.push_back({"an OBJ", messages, grpc::StatusCode::INVALID_ARGUMENT, {"header.format", "MESH_FORMAT_ARRAYS"}});
+    cases.push_back({"an OBJ",
+                     messages,
+                     grpc::StatusCode::INVALID_ARGUMENT,
+                     {"header.format", "MESH_FORMAT_ARRAYS"}});
   }
   {
     auto messages = positionsUpload("x", "meshes/bigguy", positions);
     messages[0].mutable_header()->mutable_options()->set_crease_method(v1::CREASE_METHOD_CHAIKIN);
-    cases.push_back({"other rules", messages, grpc::StatusCode::INVALID_ARGUMENT, {"header.options", "meshes/bigguy"}});
+    cases.push_back({"other rules",
+                     messages,
+                     grpc::StatusCode::INVALID_ARGUMENT,
+                     {"header.options", "meshes/bigguy"}});
   }
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
     UploadResult result = upload(c.messages);
     EXPECT_EQ(result.status.error_code(), c.code) << result.status.error_message();
-    for (const std::string& part : c.said) EXPECT_NE(result.status.error_message().find(part), std::string::npos)
-        << "'" << part << "' not in: " << result.status.error_message();
+    for (const std::string& part : c.said)
+      EXPECT_NE(result.status.error_message().find(part), std::string::npos)
+          << "'" << part << "' not in: " << result.status.error_message();
   }
   // None of them stored anything; the same rules, given, are no mismatch.
   grpc::Status status;
@@ -237,9 +262,11 @@ TEST_P(PositionsUploadTest, UvsForAMeshWithoutAreRefused) {
   auto stub = v1::MeshService::NewStub(server->channel());
   MeshArrays grid = gridMesh(3, 1);
   ASSERT_TRUE(uploadMessages(*stub, arraysUpload("grid", grid)).status.ok());
-  UploadResult result = uploadMessages(*stub, positionsUpload("g2", "meshes/grid", grid.positions, {0.5f, 0.5f}));
+  UploadResult result =
+      uploadMessages(*stub, positionsUpload("g2", "meshes/grid", grid.positions, {0.5f, 0.5f}));
   EXPECT_EQ(result.status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(result.status.error_message().find("arrays.uvs: 2 numbers, where meshes/grid (header.topology_of) has no UVs"),
+  EXPECT_NE(result.status.error_message().find(
+                "arrays.uvs: 2 numbers, where meshes/grid (header.topology_of) has no UVs"),
             std::string::npos)
       << result.status.error_message();
 }
@@ -253,7 +280,8 @@ TEST_P(WithBigguy, TheEditsFirstTessellationReusesTheTopology) {
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_misses_total"), 1);
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_hits_total"), 0);
 
-  ASSERT_TRUE(upload(positionsUpload("edit1", "meshes/bigguy", editedCage(cage_, 0.03f).positions)).status.ok());
+  ASSERT_TRUE(upload(positionsUpload("edit1", "meshes/bigguy", editedCage(cage_, 0.03f).positions))
+                  .status.ok());
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_misses_total"), 2);  // built by the upload
   ASSERT_TRUE(tessellateOverGrpc(*tessellation, requestAt("edit1", 1e-2)).status.ok());
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_hits_total"), 1);
@@ -261,7 +289,8 @@ TEST_P(WithBigguy, TheEditsFirstTessellationReusesTheTopology) {
 
   // The next edit's upload finds the topology kept (and takes the light lane); its tessellation
   // reuses it.
-  ASSERT_TRUE(upload(positionsUpload("edit2", "meshes/edit1", editedCage(cage_, 0.04f).positions)).status.ok());
+  ASSERT_TRUE(upload(positionsUpload("edit2", "meshes/edit1", editedCage(cage_, 0.04f).positions))
+                  .status.ok());
   ASSERT_TRUE(tessellateOverGrpc(*tessellation, requestAt("edit2", 1e-2)).status.ok());
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_hits_total"), 2);
   EXPECT_EQ(metric(*server_, "tessera_topology_cache_misses_total"), 2);
