@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <ctime>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -13,7 +14,11 @@
 #include "client/remote_connection.h"
 #include "client/remote_progress.h"
 #include "client/remote_render.h"
+#include "client/remote_mesh_download.h"
 #include "client/remote_upload.h"
+#include "client/remote_upload_positions.h"
+#include "core/base/error.h"
+#include "core/mesh/obj_reader.h"
 #include "core/mesh/subdivision_rules.h"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "tessera/v1/mesh.grpc.pb.h"
@@ -70,7 +75,58 @@ struct UploadArgs {
   std::string name;
   std::string displayName;
   std::string boundary, creaseMethod, triangles, uvInterpolation;
+  std::string topologyOf;
 };
+
+// `upload --topology-of`: the OBJ read here (the flags' rules over its tags), its topology checked
+// against the stored mesh's, then only its positions (and UVs that changed) sent.
+int runPositionsUpload(const RemoteEndpoint& endpoint, const UploadArgs& args, UploadOptions options) {
+  ControlMesh local;
+  try {
+    local = readObjFile(args.file);
+  } catch (const TesseraError& e) {
+    std::cerr << "tessera: " << e.what() << "\n";
+    return e.kind() == ErrorKind::kLimitExceeded ? kExitLimit
+           : e.kind() == ErrorKind::kUnsupported ? kExitUnsupported
+                                                 : kExitInvalidInput;
+  } catch (const std::exception& e) {  // the file could not be read
+    std::cerr << "tessera: " << e.what() << "\n";
+    return kExitIo;
+  }
+  auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
+  v1::Mesh stored;
+  v1::MeshArrays storedArrays;
+  {
+    grpc::ClientContext context;
+    prepareContext(context, endpoint);
+    const grpc::Status status = downloadMesh(*stub, context, options.topologyOf, &stored, &storedArrays);
+    if (!status.ok()) return reportRpcError("download " + options.topologyOf + " (--topology-of)", status, &context);
+  }
+  v1::SubdivisionOptions rules;
+  v1::MeshArrays arrays;
+  try {
+    arrays = positionsOnlyArrays(local, args.file, options.topologyOf, storedArrays, &rules);
+  } catch (const TopologyMismatch& e) {
+    std::cerr << "tessera: " << e.what() << "\n";
+    return kExitInvalidInput;
+  }
+  // The file's rules unless a flag names one: the server refuses rules other than the stored mesh's.
+  const v1::SubdivisionOptions& flags = options.subdivision;
+  if (flags.boundary_interpolation() == v1::BOUNDARY_INTERPOLATION_UNSPECIFIED) options.subdivision.set_boundary_interpolation(rules.boundary_interpolation());
+  if (flags.crease_method() == v1::CREASE_METHOD_UNSPECIFIED) options.subdivision.set_crease_method(rules.crease_method());
+  if (flags.triangle_subdivision() == v1::TRIANGLE_SUBDIVISION_UNSPECIFIED) options.subdivision.set_triangle_subdivision(rules.triangle_subdivision());
+  if (flags.uv_interpolation() == v1::UV_INTERPOLATION_UNSPECIFIED) options.subdivision.set_uv_interpolation(rules.uv_interpolation());
+  if (options.displayName.empty()) options.displayName = std::filesystem::path(args.file).filename().string();
+  grpc::ClientContext context;
+  prepareContext(context, endpoint);
+  v1::Mesh mesh;
+  const grpc::Status status = uploadMeshArrays(*stub, context, arrays, options, &mesh);
+  if (!status.ok()) return reportRpcError("upload " + args.file, status, &context);
+  printMesh(mesh);
+  std::cout << fmt::format("sent          {} (positions{} of {}'s topology)\n", humanBytes(arraysUploadBytes(arrays)),
+                           arrays.uvs_size() > 0 ? " and UVs" : "", options.topologyOf);
+  return kExitOk;
+}
 
 int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
   UploadOptions options;
@@ -97,6 +153,10 @@ int runUpload(const RemoteEndpoint& endpoint, const UploadArgs& args) {
     // after kAll; LINEAR_ALL is 6.
     options.subdivision.set_uv_interpolation(*rule == UvInterpolation::kAll ? v1::UV_INTERPOLATION_LINEAR_ALL
                                                                             : v1::UvInterpolation(int(*rule)));
+  }
+  if (!args.topologyOf.empty()) {
+    options.topologyOf = asMeshName(args.topologyOf);
+    return runPositionsUpload(endpoint, args, options);
   }
   auto stub = v1::MeshService::NewStub(makeChannel(endpoint));
   grpc::ClientContext context;
@@ -230,6 +290,9 @@ void registerRemoteCommands(CLI::App& app, CommandContext& context) {
       ->check(CLI::IsMember({"catmark", "smooth"}));
   up->add_option("--uv-interpolation", upload->uvInterpolation, "How UVs are subdivided (OpenSubdiv's FVAR_LINEAR_*; default all)")
       ->check(CLI::IsMember({"all", "none", "corners-only", "corners-plus1", "corners-plus2", "boundaries"}));
+  up->add_option("--topology-of", upload->topologyOf,
+                 "A stored mesh (meshes/NAME) whose topology the file shares: its positions (and UVs if "
+                 "they changed) are all that is sent, once the file's topology is checked against it");
   up->callback([&context, endpoint, upload] { context.exitCode = runUpload(*endpoint, *upload); });
 
   auto pageSize = std::make_shared<int>(100);

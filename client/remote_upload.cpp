@@ -51,6 +51,7 @@ v1::UploadMeshRequest headerFor(const UploadOptions& options, v1::MeshFormat for
   header->set_format(format);
   *header->mutable_options() = options.subdivision;
   header->set_total_bytes(total);
+  header->set_topology_of(options.topologyOf);
   return request;
 }
 

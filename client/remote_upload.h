@@ -21,6 +21,8 @@ struct UploadOptions {
   std::string meshId;
   std::string displayName;  // empty: the file name
   tessera::v1::SubdivisionOptions subdivision;
+  // "meshes/NAME" for a positions-only upload (UploadMeshHeader.topology_of), else empty.
+  std::string topologyOf;
 };
 
 // Called with bytes sent so far and the total.

@@ -299,7 +299,7 @@ int runServer(const ServerConfig& config) {
   registerProcessMetrics(registry);
   registerEngineMetrics(registry, *engine);
 
-  MeshServiceImpl meshService(repository, admission, streams, auth, config.upload, metrics);
+  MeshServiceImpl meshService(repository, admission, streams, auth, config.upload, metrics, patches);
   TessellationServiceImpl tessellationService(repository, admission, streams, *engine, auth,
                                               config.tessellation, metrics, config.lightJobTriangles);
   RenderServiceImpl renderService(repository, admission, streams, *renderer, auth, config.tessellation,

@@ -9,10 +9,13 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include "core/base/sha256.h"
+#include "core/request/camera_text.h"
 #include "server/calls/status_error.h"
 #include "server/http/http_query.h"
 #include "server/http/http_status.h"
@@ -145,35 +148,124 @@ void deleteMesh(const HttpFrontDoor::Services& s, const httplib::Request& reques
   response.status = 204;
 }
 
+// What is still read of a refused upload's body (kDrainBytes at most), then the 411 or 400.
+void refuseBody(const httplib::ContentReader& body, int httpStatus, const std::string& message,
+                httplib::Response& response) {
+  // Read (a bounded part of) what was sent, so that closing does not reset the connection
+  // before the client has read the answer.
+  size_t drained = 0;
+  body([&](const char*, size_t size) { return (drained += size) < kDrainBytes; });
+  response.status = httpStatus;
+  response.set_content(errorJson(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, message)), "application/json");
+}
+
+// A positions-only upload's body (mesh.proto, UploadMeshHeader.topology_of): little-endian
+// 32-bit floats, the positions then `uvValues` UV numbers, sent on as MeshArrays pieces of about
+// kUploadChunkBytes. A float may straddle two pieces of the body.
+class FloatBody {
+ public:
+  explicit FloatBody(int64_t positions) : positions_(positions) {}
+  // Takes the bytes; true when a piece is full.
+  bool append(const char* data, size_t size) {
+    carry_.append(data, size);
+    const size_t whole = carry_.size() / 4 * 4;
+    for (size_t at = 0; at < whole; at += 4) {
+      const auto* b = reinterpret_cast<const unsigned char*>(carry_.data() + at);
+      const uint32_t bits = uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+      float value;
+      std::memcpy(&value, &bits, sizeof value);
+      v1::MeshArrays& arrays = *piece_.mutable_arrays();
+      if (index_++ < positions_) arrays.add_positions(value); else arrays.add_uvs(value);
+    }
+    carry_.erase(0, whole);
+    return int64_t(piece_.arrays().positions_size() + piece_.arrays().uvs_size()) * 4 >= int64_t(kUploadChunkBytes);
+  }
+  bool empty() const { return piece_.arrays().positions_size() + piece_.arrays().uvs_size() == 0; }
+  // The piece to send; the next starts empty.
+  v1::UploadMeshRequest take() { return std::exchange(piece_, {}); }
+
+ private:
+  int64_t positions_;
+  int64_t index_ = 0;
+  std::string carry_;
+  v1::UploadMeshRequest piece_;
+};
+
+// The header of a positions-only upload from its query parameters; its first data message (the
+// origin, if given) in *origin.
+void positionsHeader(const httplib::Request& request, int64_t length, v1::UploadMeshHeader& header,
+                     v1::UploadMeshRequest* origin, int64_t* positions) {
+  std::string topologyOf = request.get_param_value("topology_of");
+  if (topologyOf.rfind("meshes/", 0) != 0) topologyOf = "meshes/" + topologyOf;  // ID or meshes/ID
+  header.set_topology_of(topologyOf);
+  header.set_format(v1::MESH_FORMAT_ARRAYS);
+  const int64_t uvValues = queryNumber<int64_t>(request.params, "uv_values").value_or(0);
+  if (uvValues < 0 || uvValues > length / 4) {
+    throwInvalidArgument(fmt::format("query parameter uv_values: {} UV numbers, where the body holds {} floats",
+                                     uvValues, length / 4));
+  }
+  *positions = length / 4 - uvValues;
+  int64_t total = length;
+  if (const std::optional<std::string> text = queryParameter(request.params, "origin")) {
+    const std::optional<TypedVector> v = parseXyz(*text);
+    if (!v) throwInvalidArgument(fmt::format("query parameter origin: expects X,Y,Z, got {}", quoteForMessage(*text)));
+    v1::Vec3& o = *origin->mutable_arrays()->mutable_origin();
+    o.set_x(v->x), o.set_y(v->y), o.set_z(v->z);
+    total += 24;  // mesh.proto: an origin counts 24 bytes
+  }
+  header.set_total_bytes(total);
+}
+
 // The body streams into UploadMesh in 64 KiB pieces; the server checks the header's size first,
-// so a refused upload stops reading the body early.
+// so a refused upload stops reading the body early. An OBJ file, or with topology_of the
+// positions (and UVs) of a mesh whose topology a stored one has.
 void uploadMesh(const HttpFrontDoor::Services& s, const httplib::Request& request, httplib::Response& response,
                 const httplib::ContentReader& body) {
-  checkQueryParameters(request.params, {"id", "display_name"});
+  const bool positionsOnly = request.has_param("topology_of");
+  if (positionsOnly) {
+    checkQueryParameters(request.params, {"id", "display_name", "topology_of", "uv_values", "origin"});
+  } else {
+    checkQueryParameters(request.params, {"id", "display_name"});
+  }
   const std::string length = request.get_header_value("Content-Length");
   if (length.empty()) {
-    // Read (a bounded part of) what was sent, so that closing does not reset the connection
-    // before the client has read the answer.
-    size_t drained = 0;
-    body([&](const char*, size_t size) { return (drained += size) < kDrainBytes; });
-    response.status = 411;
-    response.set_content(errorJson(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                                                "an upload needs its Content-Length (the OBJ file's size)")),
-                         "application/json");
-    return;
+    return refuseBody(body, 411,
+                      positionsOnly ? "an upload needs its Content-Length (4 bytes a float)"
+                                    : "an upload needs its Content-Length (the OBJ file's size)",
+                      response);
   }
-  auto context = contextFor(request);
-  v1::Mesh mesh;
-  std::unique_ptr<grpc::ClientWriter<v1::UploadMeshRequest>> writer = s.meshes->UploadMesh(context.get(), &mesh);
+  const int64_t bytes = std::atoll(length.c_str());
+  if (positionsOnly && bytes % 4 != 0) {
+    return refuseBody(body, 400,
+                      fmt::format("the body: {} bytes is not a whole number of 4-byte floats (a positions-only "
+                                  "upload sends little-endian float32 positions, then its UVs)",
+                                  bytes),
+                      response);
+  }
   v1::UploadMeshRequest message;
   v1::UploadMeshHeader& header = *message.mutable_header();
   header.set_mesh_id(request.get_param_value("id"));
   header.set_display_name(request.get_param_value("display_name"));
-  header.set_format(v1::MESH_FORMAT_OBJ);
-  header.set_total_bytes(std::atoll(length.c_str()));
+  v1::UploadMeshRequest origin;
+  int64_t positions = 0;
+  if (positionsOnly) {
+    positionsHeader(request, bytes, header, &origin, &positions);
+  } else {
+    header.set_format(v1::MESH_FORMAT_OBJ);
+    header.set_total_bytes(bytes);
+  }
+  auto context = contextFor(request);
+  v1::Mesh mesh;
+  std::unique_ptr<grpc::ClientWriter<v1::UploadMeshRequest>> writer = s.meshes->UploadMesh(context.get(), &mesh);
   bool open = writer->Write(message);
+  if (open && origin.has_arrays()) open = writer->Write(origin);
   std::string pending;
+  FloatBody floats(positions);
   auto flush = [&] {
+    if (positionsOnly) {
+      open = open && writer->Write(floats.take());
+      return;
+    }
     message.set_obj_data(pending);
     open = open && writer->Write(message);
     pending.clear();
@@ -181,11 +273,15 @@ void uploadMesh(const HttpFrontDoor::Services& s, const httplib::Request& reques
   size_t drained = 0;
   body([&](const char* data, size_t size) {
     if (!open) return (drained += size) < kDrainBytes;  // refused: its status is in Finish()
+    if (positionsOnly) {
+      if (floats.append(data, size)) flush();
+      return true;
+    }
     pending.append(data, size);
     if (pending.size() >= kUploadChunkBytes) flush();
     return true;
   });
-  if (open && !pending.empty()) flush();
+  if (open && (positionsOnly ? !floats.empty() : !pending.empty())) flush();
   if (open) writer->WritesDone();
   const grpc::Status status = writer->Finish();
   if (!status.ok()) return respondWithStatus(status, context.get(), response);

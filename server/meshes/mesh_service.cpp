@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <memory>
 
 #include "server/calls/call_guard.h"
 #include "server/calls/memory_release.h"
@@ -37,7 +38,19 @@ void MeshServiceImpl::receive(Watched<grpc::ServerReader<v1::UploadMeshRequest>>
       throwStatus(grpc::StatusCode::ALREADY_EXISTS,
                   fmt::format("mesh {} already exists", meshName(upload.meshId())));
     }
+    // Likewise a positions-only upload of a mesh that is not there; finish() looks again.
+    if (isHeader && !upload.topologyOfId().empty()) topologyOf(upload.topologyOfId());
   }
+}
+
+std::shared_ptr<const ControlMesh> MeshServiceImpl::topologyOf(const std::string& id) {
+  if (!repository_.exists(id)) {
+    throwStatus(grpc::StatusCode::NOT_FOUND,
+                fmt::format("header.topology_of: mesh {} not found; a positions-only upload takes its "
+                            "topology from a stored mesh",
+                            meshName(id)));
+  }
+  return repository_.mesh(repository_.metadata(id));
 }
 
 grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
@@ -58,16 +71,40 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     // Parsing and validating is the CPU-heavy part; receiving is not, so it waits outside. A
     // small upload is short (armorguy's 1.3 MB OBJ parses and validates in well under a second),
     // so it takes the light lane and is never queued behind long tessellations.
-    const AdmissionLane lane =
-        upload.receivedBytes() <= kLightUploadBytes ? AdmissionLane::kLight : AdmissionLane::kMain;
+    // A positions-only upload whose topology is not kept yet builds it (Far's refinement), which
+    // is no short job.
+    std::shared_ptr<const ControlMesh> topology;
+    bool keepTopology = false;
+    if (!upload.topologyOfId().empty()) {
+      topology = topologyOf(upload.topologyOfId());
+      keepTopology = !patches_.holdsTopology(*topology);
+    }
+    const AdmissionLane lane = upload.receivedBytes() <= kLightUploadBytes && !keepTopology
+                                   ? AdmissionLane::kLight
+                                   : AdmissionLane::kMain;
     AdmissionControl::Slot slot = admission_.acquire(cancel, {}, 0, "the upload", lane);
-    AssembledUpload assembled = upload.finish();
+    AssembledUpload assembled = upload.finish(topology.get());
+    topology.reset();
     admission_.requireFits(assembled.preprocessingBytes, assembled.where + "preprocessing the mesh");
     cancel.throwIfCancelled();
+    // An upload that names the topology it shares is an edit, and more are likely to follow: the
+    // topology is kept so that this mesh's first tessellation, and the next edits', only refine
+    // their positions (server/README.md, Caches). Before the mesh is stored, so that a cancelled
+    // call leaves nothing. A mesh the topology cannot be built for, or no memory for it now, is
+    // stored all the same: its Tessellate says what a full upload's would.
+    if (keepTopology) {
+      try {
+        patches_.keepTopology(assembled.mesh, cancel, &slot);
+      } catch (const TesseraError&) {
+      } catch (const StatusError& error) {
+        if (error.code() != grpc::StatusCode::RESOURCE_EXHAUSTED) throw;
+      }
+    }
     MeshMetadata stored = repository_.create(std::move(assembled.mesh), std::move(assembled.metadata));
     toProto(stored, response);
     metrics_.notes.note(context, "mesh", stored.id);
     metrics_.notes.note(context, "bytes", int64_t(upload.receivedBytes()));
+    if (!upload.topologyOfId().empty()) metrics_.notes.note(context, "topology_of", meshName(upload.topologyOfId()));
   });
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/base/error.h"
 #include "core/mesh/obj_reader.h"
@@ -84,6 +85,23 @@ std::optional<UvInterpolation> uvInterpolationFromProto(int value) {
   throwInvalidArgument(fmt::format("header.options.uv_interpolation: unknown value {}", value));
 }
 
+// A positions-only upload's topology comes from the mesh header.topology_of names: arrays that
+// would describe another are refused rather than ignored.
+void refuseTopologyArrays(const v1::MeshArrays& a, int64_t index, const std::string& topologyOf) {
+  const char* field = a.face_sizes_size() > 0      ? "face_sizes"
+                      : a.face_vertices_size() > 0 ? "face_vertices"
+                      : a.creases_size() > 0       ? "creases"
+                      : a.corners_size() > 0       ? "corners"
+                      : a.holes_size() > 0         ? "holes"
+                      : a.uv_indices_size() > 0    ? "uv_indices"
+                                                   : nullptr;
+  if (!field) return;
+  throwInvalidArgument(fmt::format(
+      "UploadMeshRequest #{}: arrays.{}: a positions-only upload takes its topology from {} "
+      "(header.topology_of) and carries only positions, uvs and an origin",
+      index, field, meshName(topologyOf)));
+}
+
 // core/ messages say what is wrong inside the mesh; the prefix says which upload part it is in.
 [[noreturn]] void rethrowWithPrefix(const TesseraError& error, const std::string& prefix) {
   throw TesseraError(error.kind(), prefix + error.what());
@@ -115,6 +133,7 @@ void UploadAssembler::accept(const v1::UploadMeshRequest& message) {
         throwInvalidArgument(fmt::format(
             "UploadMeshRequest #{}: arrays in an upload whose header.format is OBJ", index));
       }
+      if (!topologyOfId_.empty()) refuseTopologyArrays(message.arrays(), index, topologyOfId_);
       countBytes(arraysBytes(message.arrays()));
       acceptArrays(message.arrays());
       return;
@@ -140,6 +159,13 @@ void UploadAssembler::acceptHeader(const v1::UploadMeshHeader& header) {
       break;
     default:
       throwInvalidArgument("header.format: must be MESH_FORMAT_ARRAYS or MESH_FORMAT_OBJ");
+  }
+  if (!header.topology_of().empty()) {
+    topologyOfId_ = meshIdFromName(header.topology_of(), "header.topology_of");
+    if (metadata_.sourceFormat != SourceFormat::kArrays) {
+      throwInvalidArgument(
+          "header.format: a positions-only upload (header.topology_of) must be MESH_FORMAT_ARRAYS");
+    }
   }
   boundary_ = boundaryFromProto(header.options().boundary_interpolation());
   creaseMethod_ = creaseMethodFromProto(header.options().crease_method());
@@ -197,7 +223,7 @@ void UploadAssembler::acceptArrays(const v1::MeshArrays& a) {
   }
 }
 
-AssembledUpload UploadAssembler::finish() {
+AssembledUpload UploadAssembler::finish(const ControlMesh* topology) {
   if (!hasHeader()) throwInvalidArgument("UploadMesh: the stream ended before the header");
   if (received_ != declaredBytes_) {
     throwInvalidArgument(
@@ -205,7 +231,12 @@ AssembledUpload UploadAssembler::finish() {
                     "header.total_bytes",
                     received_, declaredBytes_));
   }
-  ControlMesh mesh = metadata_.sourceFormat == SourceFormat::kObj ? parseObj() : buildFromArrays();
+  if (!topologyOfId_.empty() && !topology) {
+    throw std::logic_error("UploadAssembler::finish: a positions-only upload needs its topology");
+  }
+  ControlMesh mesh = !topologyOfId_.empty()                          ? buildOnTopology(*topology)
+                     : metadata_.sourceFormat == SourceFormat::kObj ? parseObj()
+                                                                    : buildFromArrays();
   const std::string where = metadata_.sourceFormat == SourceFormat::kObj
                                 ? metadata_.displayName + ": "
                                 : std::string("arrays: ");
@@ -233,6 +264,39 @@ ControlMesh UploadAssembler::buildFromArrays() {
   }
   positions_ = {};
   overrideRules(mesh);
+  return mesh;
+}
+
+// The stored mesh's faces, tags, rules and UV indices with the upload's positions, its UV values
+// if it sent any, and its origin: the mesh a full upload of the same arrays would make.
+ControlMesh UploadAssembler::buildOnTopology(const ControlMesh& topology) {
+  const std::string shared = meshName(topologyOfId_) + " (header.topology_of)";
+  const size_t vertices = topology.positions.size();
+  if (positions_.size() != 3 * vertices) {
+    throwInvalidArgument(fmt::format("arrays.positions: {} floats, where {} has {} vertices: {} floats are needed",
+                                     positions_.size(), shared, vertices, 3 * vertices));
+  }
+  if (!arrays_.uvs.empty() && arrays_.uvs.size() != topology.uvs.size()) {
+    throwInvalidArgument(
+        topology.uvs.empty()
+            ? fmt::format("arrays.uvs: {} numbers, where {} has no UVs", arrays_.uvs.size(), shared)
+            : fmt::format("arrays.uvs: {} numbers, where {} has {} UV numbers ({} UVs): send all of them, "
+                          "or none to keep its own",
+                          arrays_.uvs.size(), shared, topology.uvs.size(), topology.uvs.size() / 2));
+  }
+  ControlMesh mesh = topology;
+  for (size_t i = 0; i < vertices; ++i) {
+    mesh.positions[i] = Vec3(positions_[3 * i], positions_[3 * i + 1], positions_[3 * i + 2]);
+  }
+  positions_ = {};
+  if (!arrays_.uvs.empty()) mesh.uvs = std::move(arrays_.uvs);
+  mesh.origin = hasOrigin_ ? arrays_.origin : Vec3d(0, 0, 0);
+  overrideRules(mesh);
+  if (!(mesh.rules == topology.rules)) {
+    throwInvalidArgument(fmt::format("header.options: differ from the rules of {}, whose topology this upload "
+                                     "shares; leave them unset to take its rules",
+                                     shared));
+  }
   return mesh;
 }
 

@@ -1,6 +1,7 @@
 // Assembles one UploadMesh stream into a validated control mesh. It checks the protocol (header
 // first and once, chunks of the declared format, exactly total_bytes of data), then parses and
-// validates the mesh with core/. Every refusal is a StatusError or TesseraError whose message
+// validates the mesh with core/. A positions-only upload (header.topology_of) is completed from
+// the mesh it names, whose topology the caller looks up and hands to finish(). Every refusal is a StatusError or TesseraError whose message
 // names the field, the message number or the OBJ line. Holds at most total_bytes of data, which
 // the header check bounds by the server's upload limit before anything is buffered.
 #pragma once
@@ -44,16 +45,21 @@ class UploadAssembler {
   bool hasHeader() const { return messages_ > 0; }
   const std::string& meshId() const { return metadata_.id; }
   int64_t receivedBytes() const { return received_; }
+  // The id of the mesh header.topology_of names; empty for an ordinary upload.
+  const std::string& topologyOfId() const { return topologyOfId_; }
 
   // After the client's last message: checks the byte count, then parses and validates (the
-  // expensive part, which the caller runs under admission control).
-  AssembledUpload finish();
+  // expensive part, which the caller runs under admission control). A positions-only upload
+  // needs `topology`, the stored mesh topologyOfId() names: its positions and UV values are
+  // replaced by the upload's after their counts are checked against it.
+  AssembledUpload finish(const ControlMesh* topology = nullptr);
 
  private:
   void acceptHeader(const tessera::v1::UploadMeshHeader& header);
   void acceptArrays(const tessera::v1::MeshArrays& arrays);
   void countBytes(int64_t bytes);
   ControlMesh buildFromArrays();
+  ControlMesh buildOnTopology(const ControlMesh& topology);
   ControlMesh parseObj();
   void overrideRules(ControlMesh& mesh) const;
 
@@ -65,6 +71,7 @@ class UploadAssembler {
   std::optional<TriangleSubdivision> triangleSubdivision_;
   std::optional<UvInterpolation> uvInterpolation_;
   bool hasOrigin_ = false;
+  std::string topologyOfId_;
   int64_t declaredBytes_ = 0;
   int64_t received_ = 0;
   int64_t messages_ = 0;

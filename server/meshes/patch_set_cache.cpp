@@ -90,7 +90,8 @@ bool PatchSetCache::seenBefore(const std::string& topologyKey) {
 std::shared_ptr<const MeshTopology> PatchSetCache::topologyOf(const ControlMesh& mesh, const std::string& key,
                                                               const CancellationToken& cancel,
                                                               MemoryReservation* memory,
-                                                              const PreprocessingOptions& options) {
+                                                              const PreprocessingOptions& options,
+                                                              bool* builtHere) {
   bool built = false;
   auto build = [&] {
     built = true;
@@ -104,8 +105,34 @@ std::shared_ptr<const MeshTopology> PatchSetCache::topologyOf(const ControlMesh&
     return found ? found->topology : nullptr;
   };
   std::shared_ptr<const MeshTopology> topology = topologyBuilds_.get(key, cancel, memory, cached, build);
-  if (!built) topologyHits_.fetch_add(1);
+  if (builtHere) {
+    *builtHere = built;
+  } else if (!built) {
+    topologyHits_.fetch_add(1);
+  }
   return topology;
+}
+
+bool PatchSetCache::keepTopology(const ControlMesh& mesh, const CancellationToken& cancel,
+                                 MemoryReservation* memory) {
+  const std::string key = "topology:" + topologySha256(mesh);
+  seenBefore(key);  // from now on every patch set of this topology keeps and uses it
+  if (cache_.find(key)) return false;
+  PreprocessingOptions options{[&cancel] { cancel.throwIfCancelled(); }, maxRefinedVertices_};
+  int64_t held = 0;
+  if (memory) {
+    options.beforeRefining = [&](int64_t estimate) {
+      memory->hold(held, refinementBytes(estimate), "OpenSubdiv's refinement of the mesh");
+    };
+  }
+  bool built = false;
+  // Waiting for another call's build is no preprocessing that reused a topology: not a hit.
+  topologyOf(mesh, key, cancel, memory, options, &built);
+  return built;
+}
+
+bool PatchSetCache::holdsTopology(const ControlMesh& mesh) {
+  return cache_.find("topology:" + topologySha256(mesh)) != nullptr;
 }
 
 CacheStats PatchSetCache::topologyStats() const {

@@ -64,12 +64,22 @@ class PatchSetCache {
   // admitted (server/tessellation/job_cost.h). Counts as a use of the entry, not as a hit.
   bool holds(const std::string& meshSha256, double finestRelativeTolerance);
 
+  // For a positions-only upload (mesh_service.cpp), which says that meshes of this topology are
+  // being edited: keeps `mesh`'s topology, so that the first patch set of every mesh sharing it
+  // is built from it (a topology hit), the edited mesh's first included. Builds it (a topology
+  // miss), reserving its refinement in `memory` (may be null), unless it is cached or being built;
+  // returns whether this call built it. Throws what buildMeshTopology throws, OperationCancelled
+  // and what `memory` throws.
+  bool keepTopology(const ControlMesh& mesh, const CancellationToken& cancel, MemoryReservation* memory);
+  // Whether `mesh`'s topology is cached (keepTopology would build nothing).
+  bool holdsTopology(const ControlMesh& mesh);
+
   // hits: calls that found the patch set built (in the cache, or by the build they waited for);
   // misses: builds started (each preprocessing, finished or not); bytes and entries: patch sets
   // and topologies together.
   CacheStats stats() const;
-  // hits: preprocessings that reused a cached topology; misses: topologies built, kept or not
-  // (only these two).
+  // hits: preprocessings that reused a cached topology; misses: topologies built, kept or not,
+  // keepTopology's included (only these two).
   CacheStats topologyStats() const;
 
  private:
@@ -77,7 +87,8 @@ class PatchSetCache {
   bool seenBefore(const std::string& topologyKey);
   std::shared_ptr<const MeshTopology> topologyOf(const ControlMesh& mesh, const std::string& key,
                                                  const CancellationToken& cancel, MemoryReservation* memory,
-                                                 const PreprocessingOptions& options);
+                                                 const PreprocessingOptions& options,
+                                                 bool* builtHere = nullptr);  // set: counts no hit
   std::shared_ptr<const PatchSet> cachedFor(const std::string& meshSha256, double chainFloor);
 
   // A cache entry: a patch set (keyed by content and chain floor) or a topology (by topology).

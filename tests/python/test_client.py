@@ -150,6 +150,54 @@ class ClientTest(unittest.TestCase):
         _, _, _, document = glb_triangles_and_box(self.client.tessellate("grid-far", relative=1e-3).glb)
         self.assertEqual(document["nodes"][0]["translation"], [1e6, -2e6, 0.5])
 
+    def test_positions_only_upload_is_the_mesh_a_full_upload_makes(self):
+        positions, sizes, faces, creases = grid_arrays(6)
+        uvs = (positions[:, :2] / 6.0).astype(np.float32)
+        parent = self.client.upload_arrays("grid-parent", positions, sizes, faces, creases=creases, uvs=uvs,
+                                           uv_indices=faces)
+        edited = positions.copy()
+        edited[:, 2] = 0.1 * np.sin(edited[:, 0]) * np.cos(edited[:, 1])
+        edit = self.client.upload_positions("grid-edit", topology_of=parent, positions=edited)
+        # The checksum of the whole edited mesh, and the one a full upload of it gets.
+        full = self.client.upload_arrays("grid-edit-full", edited, sizes, faces, creases=creases, uvs=uvs,
+                                         uv_indices=faces)
+        self.assertEqual(edit.sha256, full.sha256)
+        self.assertEqual(edit.sha256, canonical_sha256(edited.reshape(-1).tolist(), sizes.tolist(),
+                                                       faces.reshape(-1).tolist(), creases, uvs=uvs.reshape(-1).tolist(),
+                                                       uv_indices=faces.reshape(-1).tolist()))
+        self.assertEqual(edit.source_bytes, 4 * edited.size)
+        self.assertEqual(edit.crease_count, len(creases))
+        # New UVs replace the parent's; a name or an id names the topology's mesh.
+        moved = (uvs * 0.5).astype(np.float32)
+        again = self.client.upload_positions("meshes/grid-edit2", topology_of="meshes/grid-edit", positions=edited,
+                                             uvs=moved)
+        self.assertEqual(again.sha256, canonical_sha256(edited.reshape(-1).tolist(), sizes.tolist(),
+                                                        faces.reshape(-1).tolist(), creases,
+                                                        uvs=moved.reshape(-1).tolist(),
+                                                        uv_indices=faces.reshape(-1).tolist()))
+        triangles, _, _, _ = glb_triangles_and_box(self.client.tessellate("grid-edit2", relative=1e-3).glb)
+        self.assertGreater(triangles, 0)
+
+    def test_positions_only_upload_refusals_name_the_problem(self):
+        positions, sizes, faces, _ = grid_arrays(3)
+        self.client.upload_arrays("grid-counts", positions, sizes, faces)
+        with self.assertRaises(TesseraError) as missing:
+            self.client.upload_positions("x-missing", topology_of="no-such-mesh", positions=positions)
+        self.assertEqual(missing.exception.code, grpc.StatusCode.NOT_FOUND)
+        self.assertIn("meshes/no-such-mesh", missing.exception.message)
+        with self.assertRaises(TesseraError) as fewer:
+            self.client.upload_positions("x-fewer", topology_of="grid-counts", positions=positions[:-1])
+        self.assertEqual(fewer.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+        for part in ("meshes/grid-counts", "45 floats", "16 vertices", "48 floats are needed"):
+            self.assertIn(part, fewer.exception.message)
+        with self.assertRaises(TesseraError) as uvs:
+            self.client.upload_positions("x-uvs", topology_of="grid-counts", positions=positions, uvs=[0.5, 0.5])
+        self.assertEqual(uvs.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+        self.assertIn("has no UVs", uvs.exception.message)
+        with self.assertRaises(InvalidArgumentError):  # refused here: never sent
+            self.client.upload_positions("x-odd", topology_of="never-uploaded", positions=[1.0, 2.0])
+        self.assertNotIn("x-missing", [mesh_id(m) for m in self.client.list_meshes()])
+
     def test_tessellate_to_file_quantized_and_pixel(self):
         self.client.upload_obj("box-file", SAMPLE)
         with tempfile.TemporaryDirectory() as out:

@@ -7,7 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
+
+#include <fmt/format.h>
 
 #include "tests/server/server_process.h"
 #include "tests/server/test_support.h"
@@ -117,6 +121,69 @@ TEST_F(CliTest, UploadListGetDeleteInfoAndHealth) {
   CliRun missing = tessera("get meshes/bigguy");
   EXPECT_EQ(missing.code, kExitRemote);
   EXPECT_TRUE(contains(missing.output, "NOT_FOUND: mesh meshes/bigguy not found")) << missing.output;
+}
+
+// The value after `label` on its line of the CLI's mesh printout.
+std::string printed(const std::string& output, const std::string& label) {
+  const size_t at = output.find("\n" + label);
+  if (at == std::string::npos) return "";
+  const size_t start = output.find_first_not_of(' ', at + 1 + label.size());
+  return output.substr(start, output.find('\n', start) - start);
+}
+
+// bigguy.obj with every vertex moved (its y scaled) and, when asked, one texture coordinate
+// changed: an edited cage as a modelling tool exports it.
+std::string editedBigguy(bool newUv) {
+  std::istringstream in(readFile(modelPath("bigguy.obj")));
+  std::string out;
+  bool uvChanged = false;
+  for (std::string line; std::getline(in, line);) {
+    float x, y, z;
+    if (line.rfind("v ", 0) == 0 && std::sscanf(line.c_str(), "v %f %f %f", &x, &y, &z) == 3) {
+      line = fmt::format("v {} {} {}", x, y * 1.02f + 0.01f, z);
+    } else if (newUv && !uvChanged && line.rfind("vt ", 0) == 0) {
+      line = "vt 0.123 0.456", uvChanged = true;
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+// `upload --topology-of`: the file's topology is checked here against the stored mesh's, only
+// its positions (and UVs that changed) are sent, and the mesh is the full upload's.
+TEST_F(CliTest, UploadTopologyOfSendsThePositionsOfTheSameMesh) {
+  startServer();
+  ASSERT_EQ(tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy").code, kExitOk);
+  auto stub = v1::MeshService::NewStub(server_->channel());
+  for (bool newUv : {false, true}) {
+    SCOPED_TRACE(newUv ? "a UV changed" : "positions only");
+    const std::string file = (dir_.path() / (newUv ? "uv.obj" : "edit.obj")).string();
+    std::ofstream(file) << editedBigguy(newUv);
+    const std::string id = newUv ? "uv" : "edit";
+    CliRun positions = tessera("upload " + file + " --name " + id + " --topology-of meshes/bigguy");
+    ASSERT_EQ(positions.code, kExitOk) << positions.output;
+    EXPECT_TRUE(contains(positions.output, newUv ? "positions and UVs of meshes/bigguy" : "(positions of meshes/bigguy"))
+        << positions.output;
+    CliRun full = tessera("upload " + file + " --name " + id + "-full");
+    ASSERT_EQ(full.code, kExitOk) << full.output;
+    EXPECT_EQ(printed(positions.output, "sha256"), printed(full.output, "sha256"));
+    EXPECT_EQ(printed(positions.output, "sha256").size(), 64u);
+    // 12 bytes a vertex (and 8 a UV): what the server counted as the upload's size.
+    v1::Mesh stored;
+    grpc::Status status;
+    const MeshArrays parent = downloadMesh(*stub, "bigguy", &status);
+    downloadMesh(*stub, id, &status, &stored);
+    ASSERT_TRUE(status.ok()) << status.error_message();
+    EXPECT_EQ(stored.source_bytes(), int64_t(4 * parent.positions.size() + (newUv ? 4 * parent.uvs.size() : 0)));
+  }
+  // Another model's topology, and a mesh that is not there.
+  CliRun other = tessera("upload " + modelPath("car.obj").string() + " --name car --topology-of meshes/bigguy");
+  EXPECT_EQ(other.code, kExitInvalidInput) << other.output;
+  EXPECT_TRUE(contains(other.output, "vertices, meshes/bigguy has 1452: not its topology")) << other.output;
+  CliRun missing = tessera("upload " + modelPath("bigguy.obj").string() + " --name x --topology-of nope");
+  EXPECT_EQ(missing.code, kExitRemote) << missing.output;
+  EXPECT_TRUE(contains(missing.output, "NOT_FOUND")) << missing.output;
+  EXPECT_TRUE(contains(missing.output, "meshes/nope")) << missing.output;
 }
 
 TEST_F(CliTest, ErrorsPrintTheStatusCodeNameAndMessage) {

@@ -8,7 +8,10 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include <csignal>
+#include <cstring>
 #include <string>
 
 #include "tests/server/server_process.h"
@@ -86,6 +89,76 @@ TEST_F(HttpFrontDoor, MeshesAreUploadedListedReadAndDeletedAsJson) {
   ASSERT_TRUE(gone);
   EXPECT_EQ(gone->status, 404);
   EXPECT_NE(gone->body.find("\"code\":\"NOT_FOUND\""), std::string::npos) << gone->body;
+}
+
+// little-endian float32 bytes, as a positions-only upload's body carries them.
+std::string floatBytes(const std::vector<float>& values) {
+  std::string bytes;
+  for (float value : values) {
+    uint32_t bits;
+    std::memcpy(&bits, &value, 4);
+    for (int b = 0; b < 4; ++b) bytes.push_back(char(bits >> (8 * b) & 0xff));
+  }
+  return bytes;
+}
+
+// A positions-only upload (topology_of): the body's floats are the positions, then uv_values UV
+// numbers; the mesh is the one a full upload of the same arrays makes, checksum computed here.
+TEST_F(HttpFrontDoor, APositionsOnlyUploadTakesTheTopologyOfAStoredMesh) {
+  startServer();
+  auto stub = v1::MeshService::NewStub(server_->channel());
+  ASSERT_TRUE(uploadModel(*stub, "bigguy").status.ok());
+  grpc::Status status;
+  MeshArrays edited = downloadMesh(*stub, "bigguy", &status);
+  ASSERT_TRUE(status.ok());
+  for (size_t i = 1; i < edited.positions.size(); i += 3) edited.positions[i] *= 1.01f;
+  for (float& c : edited.uvs) c *= 0.5f;
+  edited.origin = {1, 2, 3};
+  std::vector<float> body = edited.positions;
+  body.insert(body.end(), edited.uvs.begin(), edited.uvs.end());
+  auto created = http_->Post(fmt::format("/v1/meshes?id=edit&topology_of=bigguy&uv_values={}&origin=1,2,3",
+                                         edited.uvs.size()).c_str(),
+                             floatBytes(body), "application/octet-stream");
+  ASSERT_TRUE(created);
+  EXPECT_EQ(created->status, 201) << created->body;
+  EXPECT_EQ(created->get_header_value("Location"), "/v1/meshes/edit");
+  EXPECT_NE(created->body.find("\"sha256\":\"" + sha256Hex(canonicalEncoding(edited)) + "\""), std::string::npos)
+      << created->body;
+  EXPECT_EQ(downloadMesh(*stub, "edit", &status), edited);
+
+  // Without UVs it keeps the stored mesh's; meshes/ID names it too.
+  auto kept = http_->Post("/v1/meshes?id=edit2&topology_of=meshes/edit", floatBytes(edited.positions),
+                          "application/octet-stream");
+  ASSERT_TRUE(kept);
+  EXPECT_EQ(kept->status, 201) << kept->body;
+  edited.origin = {0, 0, 0};
+  EXPECT_EQ(downloadMesh(*stub, "edit2", &status), edited);
+
+  struct Refusal {
+    std::string query;
+    std::string body;
+    int status;
+    std::vector<std::string> said;
+  };
+  const std::vector<float> fewer(edited.positions.begin(), edited.positions.end() - 3);
+  const std::vector<Refusal> refusals = {
+      {"id=x&topology_of=nope", floatBytes(edited.positions), 404, {"NOT_FOUND", "meshes/nope"}},
+      {"id=x&topology_of=bigguy", floatBytes(fewer), 400,
+       {"INVALID_ARGUMENT", "arrays.positions", "meshes/bigguy", "4353 floats", "1452 vertices"}},
+      {"id=x&topology_of=bigguy&uv_values=2", floatBytes(edited.positions) + floatBytes({0.5f, 0.5f}), 400,
+       {"INVALID_ARGUMENT", "arrays.uvs: 2 numbers", "meshes/bigguy"}},
+      {"id=x&topology_of=bigguy", floatBytes(edited.positions) + "xy", 400, {"not a whole number of 4-byte floats"}},
+      {"id=x&topology_of=bigguy&uv_values=-1", floatBytes(edited.positions), 400, {"uv_values"}},
+      {"id=x&topology_of=bigguy&origin=1,2", floatBytes(edited.positions), 400, {"origin"}},
+      {"id=x&uv_values=2", floatBytes(edited.positions), 400, {"uv_values"}},  // only with topology_of
+  };
+  for (const Refusal& r : refusals) {
+    SCOPED_TRACE(r.query);
+    auto refused = http_->Post(("/v1/meshes?" + r.query).c_str(), r.body, "application/octet-stream");
+    ASSERT_TRUE(refused);
+    EXPECT_EQ(refused->status, r.status) << refused->body;
+    for (const std::string& part : r.said) EXPECT_NE(refused->body.find(part), std::string::npos) << refused->body;
+  }
 }
 
 TEST_F(HttpFrontDoor, TheGlbIsTheGrpcOneWithAStrongEtagAndConditionalGet) {

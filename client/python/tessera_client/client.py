@@ -314,6 +314,48 @@ class TesseraClient:
                                  f"but what was sent has {expected}")
         return mesh
 
+    def upload_positions(self, mesh: str, topology_of: MeshRef, positions, uvs=None, origin=(0.0, 0.0, 0.0),
+                         display_name: Optional[str] = None, timeout: Optional[float] = None) -> mesh_pb2.Mesh:
+        """Uploads an edit of a stored mesh as `mesh` (an id, or "meshes/ID"), sending only what
+        changed: the mesh takes the faces, creases, corners, holes, rules and UV indices of
+        `topology_of` (an id, a name or a Mesh), with these positions (x, y, z for every one of its
+        vertices; lists or NumPy arrays), `uvs` (u, v for every one of its UVs) or its UVs when
+        None, and `origin` (as upload_arrays: not taken from `topology_of`). The result is a whole
+        mesh with its own id and checksum, the one upload_arrays of the same arrays would store;
+        the server keeps the shared topology ready, so the edit's first tessellation only refines
+        its positions. A count that differs from `topology_of`'s raises TesseraError with
+        INVALID_ARGUMENT (the message names the mesh and both counts), a `topology_of` that does
+        not exist NOT_FOUND; positions or UVs that are not whole triples or pairs raise
+        InvalidArgumentError before anything is sent."""
+        positions = _flat(positions, float)
+        uvs = _flat(uvs, float) if uvs is not None else []
+        origin = tuple(float(c) for c in origin)
+        if len(positions) % 3:
+            raise InvalidArgumentError(f"upload_positions: {len(positions)} position values are not whole x, y, z triples")
+        if uvs and len(uvs) % 2:
+            raise InvalidArgumentError(f"upload_positions: {len(uvs)} UV values are not whole u, v pairs")
+        total = 4 * (len(positions) + len(uvs)) + (24 if any(origin) else 0)
+        header = mesh_pb2.UploadMeshHeader(mesh_id=mesh_id(mesh), display_name=display_name or "",
+                                           format=mesh_pb2.MESH_FORMAT_ARRAYS, total_bytes=total,
+                                           topology_of=_mesh_name(topology_of))
+
+        def messages() -> Iterator[mesh_pb2.UploadMeshRequest]:
+            yield mesh_pb2.UploadMeshRequest(header=header)
+            for name, values in (("positions", positions), ("uvs", uvs)):
+                for offset in range(0, len(values), CHUNK_VALUES):
+                    arrays = mesh_pb2.MeshArrays()
+                    getattr(arrays, name).extend(values[offset:offset + CHUNK_VALUES])
+                    yield mesh_pb2.UploadMeshRequest(arrays=arrays)
+            if any(origin):
+                yield mesh_pb2.UploadMeshRequest(arrays=mesh_pb2.MeshArrays(
+                    origin=geometry_pb2.Vec3(x=origin[0], y=origin[1], z=origin[2])))
+
+        stored = self._call(lambda t: self._meshes.UploadMesh(messages(), timeout=t, metadata=self._metadata), timeout)
+        if stored.vertex_count != len(positions) // 3:
+            raise IntegrityError(f"the server stored {stored.name} with {stored.vertex_count} vertices, "
+                                 f"but {len(positions) // 3} were sent")
+        return stored
+
     def get_mesh(self, mesh: MeshRef, timeout: Optional[float] = None) -> mesh_pb2.Mesh:
         request = mesh_pb2.GetMeshRequest(name=_mesh_name(mesh))
         return self._unary(self._meshes.GetMesh, request, timeout)
