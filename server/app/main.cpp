@@ -3,12 +3,14 @@
 
 #include <iostream>
 
+#include "server/calls/memory_release.h"
 #include "server/operations/log_format.h"
 #include "server/store/mesh_store.h"
 #include "server/app/server_app.h"
 #include "server/app/server_config.h"
 
 int main(int argc, char** argv) {
+  tessera::server::mapLargeBlocks();
   CLI::App app{"tessera-server: remote tessellation of Catmull-Clark subdivision surfaces"};
   tessera::server::ServerConfig config;
   tessera::server::addServerOptions(app, config);
