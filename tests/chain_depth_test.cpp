@@ -40,8 +40,9 @@ TEST(ChainDepth, AToleranceGetsAPowerOfTenBelowWhatItNeeds) {
   }
 }
 
-// Poles, semi-sharp creases and boundaries: chains of several kinds of rings.
-TEST(ChainDepth, ACoarseTreeIsSmallerAndMakesTheSameTiles) {
+// Poles, semi-sharp creases and boundaries: chains of several kinds of rings. A shallower chain
+// serves with looser stand-ins beside the EV, so a few more triangles there at most.
+TEST(ChainDepth, ACoarseTreeIsSmallerAndMakesAtMostOnePercentMoreTriangles) {
   for (const char* name : {"catmark_cubes_semisharp", "catmark_pole8", "catmark_bishop"}) {
     const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/" + name + ".obj");
     const PatchSet deepest = buildPatchSet(mesh);
@@ -52,7 +53,8 @@ TEST(ChainDepth, ACoarseTreeIsSmallerAndMakesTheSameTiles) {
       const TessellationResult a = tessellate(coarse, mesh, relativeOptions(relative));
       const TessellationResult b = tessellate(deepest, mesh, relativeOptions(relative));
       EXPECT_LE(a.summary.guaranteedBound, a.summary.tolerance);
-      EXPECT_EQ(a.summary.triangles, b.summary.triangles);
+      EXPECT_GE(a.summary.triangles, b.summary.triangles);
+      EXPECT_LE(double(a.summary.triangles), 1.01 * double(b.summary.triangles));
     }
   }
 }
