@@ -124,6 +124,41 @@ void compressTriangles(View& view, const std::vector<uint32_t>& indices, size_t 
       meshopt_encodeIndexBuffer(view.compressed.data(), view.compressed.size(), indices.data(), indices.size()));
 }
 
+// meshoptimizer's vertex-cache ordering runs to its end once started, about 0.2 s a million
+// triangles on one core (more on a busy one), past a cancelled call's deadline. Larger outputs are
+// ordered in runs of kCacheOrderRun triangles, each over its own vertices (numbered in first use),
+// with the checkpoint before each: a cancelled call waits for one run (bench/RUNAWAY-RESULTS.md).
+// The runs are consecutive in the tessellator's order, tile by tile, so a run's border costs the
+// cache a few misses. Outputs of up to kCacheOrderRun triangles are ordered in one piece, as they
+// always were (the same bytes).
+constexpr size_t kCacheOrderRun = size_t(1) << 19;
+
+void orderForVertexCache(std::vector<uint32_t>& ordered, const std::vector<uint32_t>& indices, size_t vertexCount,
+                         const std::function<void()>& checkpoint) {
+  ordered.resize(indices.size());
+  if (indices.size() <= 3 * kCacheOrderRun) {
+    meshopt_optimizeVertexCache(ordered.data(), indices.data(), indices.size(), vertexCount);
+    return;
+  }
+  std::vector<uint32_t> local(vertexCount, ~0u);  // a mesh vertex's number in the run; ~0u: not in it
+  std::vector<uint32_t> global, runIndices, runOrdered;  // the run's vertices, its triangles, ordered
+  for (size_t first = 0; first < indices.size(); first += 3 * kCacheOrderRun) {
+    if (checkpoint) checkpoint();
+    const size_t end = std::min(indices.size(), first + 3 * kCacheOrderRun);
+    global.clear();
+    runIndices.resize(end - first);
+    for (size_t i = first; i < end; ++i) {
+      uint32_t& number = local[indices[i]];
+      if (number == ~0u) number = uint32_t(global.size()), global.push_back(indices[i]);
+      runIndices[i - first] = number;
+    }
+    runOrdered.resize(runIndices.size());
+    meshopt_optimizeVertexCache(runOrdered.data(), runIndices.data(), runIndices.size(), global.size());
+    for (size_t i = first; i < end; ++i) ordered[i] = global[runOrdered[i - first]];
+    for (const uint32_t v : global) local[v] = ~0u;
+  }
+}
+
 // The mesh as the file stores it: attributes in the encoding's types; for EXT_meshopt_compression
 // triangles ordered for the vertex cache and vertices in first-use order, which is what its codecs
 // compress well (the same triangles over the same vertices).
@@ -167,8 +202,7 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   std::iota(order.begin(), order.end(), 0u);
   size_t stored = vertexCount;
   if (compress && !mesh.indices.empty()) {
-    reordered.resize(mesh.indices.size());
-    meshopt_optimizeVertexCache(reordered.data(), mesh.indices.data(), reordered.size(), vertexCount);
+    orderForVertexCache(reordered, mesh.indices, vertexCount, options.checkpoint);
     checkpoint();
     std::vector<uint32_t> remap(vertexCount);
     stored = meshopt_optimizeVertexFetchRemap(remap.data(), reordered.data(), reordered.size(), vertexCount);
