@@ -162,6 +162,42 @@ TEST(GlbEncoding, AMeshoptFileOrderedInRunsHoldsTheSameTriangles) {
   EXPECT_LT(compressed.size(), plain.size() / 2);
 }
 
+// A view whose codec would read more than 64 MiB is stored as it is beside the compressed ones
+// (glb_writer.cpp: meshoptimizer's codecs cannot stop for a cancelled call): a flat grid of 5.9M
+// triangles keeps its 32-bit indices (70 MB) uncompressed and its positions and normals
+// compressed; the file validates and holds the float file's triangles.
+TEST(GlbEncoding, AMeshoptFileKeepsAViewTooLargeForTheCodecsUncompressed) {
+  constexpr uint32_t kCells = 1710;  // 2 · 1710² triangles: indices past 64 MiB
+  TriangleMesh grid;
+  for (uint32_t j = 0; j <= kCells; ++j) {
+    for (uint32_t i = 0; i <= kCells; ++i) {
+      grid.positions.push_back(Vec3(float(i) / kCells, float(j) / kCells, 0.0f));
+      grid.normals.push_back(Vec3(0.0f, 0.0f, 1.0f));
+    }
+  }
+  for (uint32_t j = 0; j < kCells; ++j) {
+    for (uint32_t i = 0; i < kCells; ++i) {
+      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
+      grid.indices.insert(grid.indices.end(), {a, b, d, a, d, c});
+    }
+  }
+  GlbOptions glb;
+  glb.description.sourceName = "grid";
+  const std::vector<uint8_t> plain = writeGlb(grid, glb);
+  glb.encoding = GlbEncoding::kMeshopt;
+  const std::vector<uint8_t> compressed = writeGlb(grid, glb);
+  const nlohmann::json json = jsonOf(compressed);
+  std::vector<bool> viewCompressed;
+  for (const nlohmann::json& view : json["bufferViews"]) viewCompressed.push_back(view.contains("extensions"));
+  EXPECT_EQ(viewCompressed, (std::vector<bool>{true, true, false})) << "positions, normals, indices";
+  const testing::ValidatorReport validation = testing::validateGlb(compressed, "grid-meshopt-mixed");
+  ASSERT_TRUE(validation.ran) << validation.report;
+  EXPECT_TRUE(validation.clean()) << validation.report;
+  const TriangleMesh back = testing::readGlb(compressed);
+  ASSERT_EQ(back.triangleCount(), grid.triangleCount());
+  EXPECT_TRUE(canonicalTriangles(back) == canonicalTriangles(testing::readGlb(plain)));
+}
+
 TEST(GlbEncoding, AGridTooCoarseForTheToleranceIsRefusedOrLeftOut) {
   const ControlMesh mesh =
       readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_torus_creases0.obj");
