@@ -507,6 +507,8 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& option
   glb.insert(glb.end(), json.begin(), json.end());
   append32(uint32_t(binBytes)), append32(kChunkBin);
   for (const View& view : stored.views) {
+    // A view of a large float file is hundreds of megabytes to copy.
+    if (options.checkpoint) options.checkpoint();
     const bool compressed = !view.compressed.empty();
     const size_t size = compressed ? view.compressed.size() : view.size;
     const uint8_t* data = compressed ? view.compressed.data() : view.data;

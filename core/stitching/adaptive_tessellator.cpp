@@ -100,6 +100,7 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
     mesh.vertexPoint.resize(count);
     for (size_t i = 0; i < count; ++i) mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
   }
+  if (checkpoint) checkpoint();  // after the output's arrays are in place (a fraction of a second at 20M triangles)
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   const bool evaluated = external && external->evaluate(plan, stitching, mesh.positions, mesh.normals);

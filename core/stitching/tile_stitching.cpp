@@ -664,7 +664,9 @@ Stitching Stitcher::run() {
       });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
+  if (checkpoint_) checkpoint_();
   assemble();
+  if (checkpoint_) checkpoint_();
   out_.copyFirst = uint32_t(out_.vertices.size());
   splitNormals();
   return std::move(out_);
