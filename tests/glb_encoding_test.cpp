@@ -5,6 +5,8 @@
 // ε is refused (quantized) or left out (meshopt).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -114,6 +116,86 @@ TEST(GlbEncoding, EveryEncodingDecodesWithinToleranceClosedAndValid) {
           report.twoSidedRelative() / kRelative);
     }
   }
+}
+
+// Each triangle as its corners' positions (bit patterns), rotated to start at the least corner
+// (the winding kept: meshoptimizer's index codec may rotate a triangle's corners), all sorted.
+std::vector<std::array<float, 9>> canonicalTriangles(const TriangleMesh& mesh) {
+  std::vector<std::array<float, 9>> triangles(mesh.triangleCount());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    std::array<std::array<float, 3>, 3> corner;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& p = mesh.positions[mesh.indices[3 * t + k]];
+      corner[k] = {p.x, p.y, p.z};
+    }
+    const int first = int(std::min_element(corner.begin(), corner.end()) - corner.begin());
+    for (int k = 0; k < 3; ++k) std::copy_n(corner[(first + k) % 3].begin(), 3, triangles[t].begin() + 3 * k);
+  }
+  std::sort(triangles.begin(), triangles.end());
+  return triangles;
+}
+
+// Past 512K triangles the meshopt encoding orders the triangles for the vertex cache in runs,
+// with a checkpoint between them (glb_writer.cpp): the file still holds exactly the triangles of
+// the float file of the same mesh (float positions: the grid is too coarse at 1e-6 of the
+// diagonal), and Khronos glTF-Validator accepts it.
+TEST(GlbEncoding, AMeshoptFileOrderedInRunsHoldsTheSameTriangles) {
+  const ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/catmark_cube.obj");
+  TessellationOptions options;
+  options.accuracy = Accuracy::relative(1e-6);
+  PreprocessingOptions preprocessing;
+  preprocessing.finestRelativeTolerance = finestRelativeTolerance(mesh, options);
+  const PatchSet patches = buildPatchSet(mesh, preprocessing);
+  const TessellationResult result = tessellate(patches, mesh, options);
+  ASSERT_GT(result.summary.triangles, 3 * 512 * 1024) << "fewer triangles than three runs";
+  GlbOptions glb;
+  glb.description.sourceName = "cube";
+  const std::vector<uint8_t> plain = writeGlb(result.mesh, glb);
+  glb.encoding = GlbEncoding::kMeshopt;
+  const std::vector<uint8_t> compressed = writeGlb(result.mesh, glb);
+  const testing::ValidatorReport validation = testing::validateGlb(compressed, "cube-meshopt-runs");
+  ASSERT_TRUE(validation.ran) << validation.report;
+  EXPECT_TRUE(validation.clean()) << validation.report;
+  const TriangleMesh back = testing::readGlb(compressed);
+  ASSERT_EQ(int64_t(back.triangleCount()), result.summary.triangles);
+  EXPECT_TRUE(canonicalTriangles(back) == canonicalTriangles(testing::readGlb(plain)));
+  EXPECT_LT(compressed.size(), plain.size() / 2);
+}
+
+// A view whose codec would read more than 64 MiB is stored as it is beside the compressed ones
+// (glb_writer.cpp: meshoptimizer's codecs cannot stop for a cancelled call): a flat grid of 5.9M
+// triangles keeps its 32-bit indices (70 MB) uncompressed and its positions and normals
+// compressed; the file validates and holds the float file's triangles.
+TEST(GlbEncoding, AMeshoptFileKeepsAViewTooLargeForTheCodecsUncompressed) {
+  constexpr uint32_t kCells = 1710;  // 2 · 1710² triangles: indices past 64 MiB
+  TriangleMesh grid;
+  for (uint32_t j = 0; j <= kCells; ++j) {
+    for (uint32_t i = 0; i <= kCells; ++i) {
+      grid.positions.push_back(Vec3(float(i) / kCells, float(j) / kCells, 0.0f));
+      grid.normals.push_back(Vec3(0.0f, 0.0f, 1.0f));
+    }
+  }
+  for (uint32_t j = 0; j < kCells; ++j) {
+    for (uint32_t i = 0; i < kCells; ++i) {
+      const uint32_t a = j * (kCells + 1) + i, b = a + 1, c = a + kCells + 1, d = c + 1;
+      grid.indices.insert(grid.indices.end(), {a, b, d, a, d, c});
+    }
+  }
+  GlbOptions glb;
+  glb.description.sourceName = "grid";
+  const std::vector<uint8_t> plain = writeGlb(grid, glb);
+  glb.encoding = GlbEncoding::kMeshopt;
+  const std::vector<uint8_t> compressed = writeGlb(grid, glb);
+  const nlohmann::json json = jsonOf(compressed);
+  std::vector<bool> viewCompressed;
+  for (const nlohmann::json& view : json["bufferViews"]) viewCompressed.push_back(view.contains("extensions"));
+  EXPECT_EQ(viewCompressed, (std::vector<bool>{true, true, false})) << "positions, normals, indices";
+  const testing::ValidatorReport validation = testing::validateGlb(compressed, "grid-meshopt-mixed");
+  ASSERT_TRUE(validation.ran) << validation.report;
+  EXPECT_TRUE(validation.clean()) << validation.report;
+  const TriangleMesh back = testing::readGlb(compressed);
+  ASSERT_EQ(back.triangleCount(), grid.triangleCount());
+  EXPECT_TRUE(canonicalTriangles(back) == canonicalTriangles(testing::readGlb(plain)));
 }
 
 TEST(GlbEncoding, AGridTooCoarseForTheToleranceIsRefusedOrLeftOut) {

@@ -74,7 +74,10 @@ status=0
   echo "each), tessellate each once at relative 1e-3 (the first GLB), delete it and go on; its patch set"
   echo "stays in the cache, which the storm churns. A cold call may end OK or RESOURCE_EXHAUSTED with a"
   echo "message (after waiting out any pushback). tools/soak/soak_requests.h lists which codes each"
-  echo "request may end with; any other counts as unexpected."
+  echo "request may end with; any other counts as unexpected. Each hostile client's first request, and"
+  echo "those it sends in the soak's last 4 s, are runaways: bigguy at relative 1e-5 (legitimate, ~1.5 s"
+  echo "alone) with a 1 s deadline; after the clients end, one more alone with a 0.3 s deadline, and the"
+  echo "report says how soon after it the server's CPU is idle."
   echo
   cat "$work/report.md"
 } >"$out"

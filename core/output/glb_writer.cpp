@@ -65,6 +65,12 @@ struct View {
   std::vector<uint8_t> compressed;  // empty: stored as is
 };
 
+// Whether any view is stored with EXT_meshopt_compression (a meshopt file whose every view is
+// too large for the codecs' bound is written without the extension).
+bool anyCompressed(const std::vector<View>& views) {
+  return std::any_of(views.begin(), views.end(), [](const View& view) { return !view.compressed.empty(); });
+}
+
 template <typename T>
 View viewOf(const std::vector<T>& values, int target = kArrayBuffer) {
   View view;
@@ -112,16 +118,88 @@ void useSpecifiedCodecVersions() {
   });
 }
 
+// meshoptimizer's codecs run to their end once started, at ~170-200 MB of input a second on this
+// 2-core VM when it is busy (bench/RUNAWAY-RESULTS.md): a view whose codec would read more than
+// kMostCodecBytes is stored as it is, uncompressed (EXT_meshopt_compression is per view), so no
+// codec call keeps a cancelled call running for more than ~0.4 s. Attributes of up to 5.6M
+// vertices (float positions) and triangles of up to 5.6M triangles are compressed.
+constexpr size_t kMostCodecBytes = size_t(64) << 20;
+
 void compressAttributes(View& view) {
+  if (view.size > kMostCodecBytes) return;
   view.compressed.resize(meshopt_encodeVertexBufferBound(view.count, view.stride));
   view.compressed.resize(meshopt_encodeVertexBuffer(view.compressed.data(), view.compressed.size(),
                                                     view.data, view.count, view.stride));
 }
 
 void compressTriangles(View& view, const std::vector<uint32_t>& indices, size_t vertices) {
+  if (indices.size() * sizeof(uint32_t) > kMostCodecBytes) return;
   view.compressed.resize(meshopt_encodeIndexBufferBound(indices.size(), vertices));
   view.compressed.resize(
       meshopt_encodeIndexBuffer(view.compressed.data(), view.compressed.size(), indices.data(), indices.size()));
+}
+
+// meshoptimizer's vertex-cache ordering runs to its end once started, about 0.2 s a million
+// triangles on one core (more on a busy one), past a cancelled call's deadline. Larger outputs are
+// ordered in runs of kCacheOrderRun triangles, each over its own vertices (numbered in first use),
+// with the checkpoint before each: a cancelled call waits for one run (bench/RUNAWAY-RESULTS.md).
+// The runs are consecutive in the tessellator's order, tile by tile, so a run's border costs the
+// cache a few misses. Outputs of up to kCacheOrderRun triangles are ordered in one piece, as they
+// always were (the same bytes).
+constexpr size_t kCacheOrderRun = size_t(1) << 19;
+
+void orderForVertexCache(std::vector<uint32_t>& ordered, const std::vector<uint32_t>& indices, size_t vertexCount,
+                         const std::function<void()>& checkpoint) {
+  ordered.resize(indices.size());
+  if (indices.size() <= 3 * kCacheOrderRun) {
+    meshopt_optimizeVertexCache(ordered.data(), indices.data(), indices.size(), vertexCount);
+    return;
+  }
+  std::vector<uint32_t> local(vertexCount, ~0u);  // a mesh vertex's number in the run; ~0u: not in it
+  std::vector<uint32_t> global, runIndices, runOrdered;  // the run's vertices, its triangles, ordered
+  for (size_t first = 0; first < indices.size(); first += 3 * kCacheOrderRun) {
+    if (checkpoint) checkpoint();
+    const size_t end = std::min(indices.size(), first + 3 * kCacheOrderRun);
+    global.clear();
+    runIndices.resize(end - first);
+    for (size_t i = first; i < end; ++i) {
+      uint32_t& number = local[indices[i]];
+      if (number == ~0u) number = uint32_t(global.size()), global.push_back(indices[i]);
+      runIndices[i - first] = number;
+    }
+    runOrdered.resize(runIndices.size());
+    meshopt_optimizeVertexCache(runOrdered.data(), runIndices.data(), runIndices.size(), global.size());
+    for (size_t i = first; i < end; ++i) ordered[i] = global[runOrdered[i - first]];
+    for (const uint32_t v : global) local[v] = ~0u;
+  }
+}
+
+// body(first, end) over [0, n) in slices of kSlice with the checkpoint between them: a pass over
+// a large mesh's vertices or indices is no stretch without one (tens of milliseconds a slice).
+constexpr size_t kSlice = size_t(1) << 20;
+
+template <typename Body>
+void inSlices(size_t n, const std::function<void()>& checkpoint, const Body& body) {
+  for (size_t first = 0; first < n; first += kSlice) {
+    if (first > 0 && checkpoint) checkpoint();
+    body(first, std::min(n, first + kSlice));
+  }
+}
+
+// Vertices numbered in first use by `indices`, which are renumbered so (what meshoptimizer's
+// optimizeVertexFetchRemap and remapIndexBuffer compute, in slices); remap[v] is ~0u for an
+// unused vertex. Returns the vertices used.
+size_t renumberInFirstUse(std::vector<uint32_t>& indices, std::vector<uint32_t>& remap,
+                          const std::function<void()>& checkpoint) {
+  uint32_t next = 0;
+  inSlices(indices.size(), checkpoint, [&](size_t first, size_t end) {
+    for (size_t i = first; i < end; ++i) {
+      uint32_t& number = remap[indices[i]];
+      if (number == ~0u) number = next++;
+      indices[i] = number;
+    }
+  });
+  return next;
 }
 
 // The mesh as the file stores it: attributes in the encoding's types; for EXT_meshopt_compression
@@ -167,46 +245,58 @@ Stored storeQuantized(const TriangleMesh& mesh, const GlbOptions& options) {
   std::iota(order.begin(), order.end(), 0u);
   size_t stored = vertexCount;
   if (compress && !mesh.indices.empty()) {
-    reordered.resize(mesh.indices.size());
-    meshopt_optimizeVertexCache(reordered.data(), mesh.indices.data(), reordered.size(), vertexCount);
+    orderForVertexCache(reordered, mesh.indices, vertexCount, options.checkpoint);
     checkpoint();
-    std::vector<uint32_t> remap(vertexCount);
-    stored = meshopt_optimizeVertexFetchRemap(remap.data(), reordered.data(), reordered.size(), vertexCount);
-    meshopt_remapIndexBuffer(reordered.data(), reordered.data(), reordered.size(), remap.data());
+    std::vector<uint32_t> remap(vertexCount, ~0u);
+    stored = renumberInFirstUse(reordered, remap, options.checkpoint);
     checkpoint();
     order.assign(stored, 0);
-    for (uint32_t v = 0; v < vertexCount; ++v) {
-      if (remap[v] != ~0u) order[remap[v]] = v;
-    }
+    inSlices(vertexCount, options.checkpoint, [&](size_t first, size_t end) {
+      for (size_t v = first; v < end; ++v) {
+        if (remap[v] != ~0u) order[remap[v]] = uint32_t(v);
+      }
+    });
   }
   Stored result;
   std::vector<QuantizedNormal> normals(stored);
-  for (size_t k = 0; k < stored; ++k) normals[k] = quantizeNormal(mesh.normals[order[k]]);
+  inSlices(stored, options.checkpoint, [&](size_t first, size_t end) {
+    for (size_t k = first; k < end; ++k) normals[k] = quantizeNormal(mesh.normals[order[k]]);
+  });
   result.normalType = kByte;
   checkpoint();
   if (options.positions) {
     std::vector<QuantizedPosition> positions(stored);
     std::array<int, 3> lo{32767, 32767, 32767}, hi{-32767, -32767, -32767};
-    for (size_t k = 0; k < stored; ++k) {
-      positions[k].q = options.positions->quantize(mesh.positions[order[k]]);
-      for (int a = 0; a < 3; ++a) lo[a] = std::min<int>(lo[a], positions[k].q[a]), hi[a] = std::max<int>(hi[a], positions[k].q[a]);
-    }
+    inSlices(stored, options.checkpoint, [&](size_t first, size_t end) {
+      for (size_t k = first; k < end; ++k) {
+        positions[k].q = options.positions->quantize(mesh.positions[order[k]]);
+        for (int a = 0; a < 3; ++a) lo[a] = std::min<int>(lo[a], positions[k].q[a]), hi[a] = std::max<int>(hi[a], positions[k].q[a]);
+      }
+    });
     result.positionType = kShort;
     for (int a = 0; a < 3; ++a) result.positionMin[a] = lo[a], result.positionMax[a] = hi[a];
+    checkpoint();
     result.views.push_back(ownedViewOf(positions));
   } else {
     std::vector<Vec3> positions(stored);
-    for (size_t k = 0; k < stored; ++k) positions[k] = mesh.positions[order[k]];
+    inSlices(stored, options.checkpoint, [&](size_t first, size_t end) {
+      for (size_t k = first; k < end; ++k) positions[k] = mesh.positions[order[k]];
+    });
+    checkpoint();
     positionBounds(positions, result);
     result.views.push_back(ownedViewOf(positions));
   }
+  checkpoint();
   result.views.push_back(ownedViewOf(normals));
   View index = indexView(indices, stored);
   if (compress && index.owned.empty() && index.shortIndices.empty()) index = ownedViewOf(indices, kElementArrayBuffer);  // local
   result.views.push_back(std::move(index));
   if (!mesh.uvs.empty()) {
     std::vector<std::array<float, 2>> uvs(stored);
-    for (size_t k = 0; k < stored; ++k) uvs[k] = {mesh.uvs[2 * order[k]], mesh.uvs[2 * order[k] + 1]};
+    inSlices(stored, options.checkpoint, [&](size_t first, size_t end) {
+      for (size_t k = first; k < end; ++k) uvs[k] = {mesh.uvs[2 * order[k]], mesh.uvs[2 * order[k] + 1]};
+    });
+    checkpoint();
     result.views.push_back(ownedViewOf(uvs));
   }
   if (compress) {
@@ -304,11 +394,13 @@ void writeBufferViews(const Stored& stored, bool compressed, size_t binBytes, Js
   json.key("bufferViews").raw("[");
   size_t binOffset = 0, fallbackOffset = 0;
   for (const View& view : stored.views) {
-    json.item().raw("{").key("buffer").number(size_t(compressed ? 1 : 0)).key("byteLength").number(view.size);
-    json.key("byteOffset").number(compressed ? fallbackOffset : binOffset);
+    // A view too large for the codecs is stored as it is, in the BIN chunk, beside compressed ones.
+    const bool packed = compressed && !view.compressed.empty();
+    json.item().raw("{").key("buffer").number(size_t(packed ? 1 : 0)).key("byteLength").number(view.size);
+    json.key("byteOffset").number(packed ? fallbackOffset : binOffset);
     // Vertex attributes name their stride (quantized ones are padded past their element).
     if (view.target == kArrayBuffer) json.key("byteStride").number(view.stride);
-    if (compressed) {
+    if (packed) {
       fallbackOffset += padded(view.size);
       json.key("extensions").raw("{").key(kMeshopt).raw("{").key("buffer").number(size_t(0));
       json.key("byteLength").number(view.compressed.size()).key("byteOffset").number(binOffset);
@@ -333,7 +425,7 @@ void writeBufferViews(const Stored& stored, bool compressed, size_t binBytes, Js
 // coordinates from a fourth).
 std::string glbJson(const Stored& stored, const GlbOptions& options, size_t binBytes) {
   const std::string& name = options.description.sourceName;
-  const bool compressed = options.encoding == GlbEncoding::kMeshopt;
+  const bool compressed = options.encoding == GlbEncoding::kMeshopt && anyCompressed(stored.views);
   JsonChunk json;
   json.raw("{");
   writeAccessors(stored, json);
@@ -415,6 +507,8 @@ std::vector<uint8_t> writeGlb(const TriangleMesh& mesh, const GlbOptions& option
   glb.insert(glb.end(), json.begin(), json.end());
   append32(uint32_t(binBytes)), append32(kChunkBin);
   for (const View& view : stored.views) {
+    // A view of a large float file is hundreds of megabytes to copy.
+    if (options.checkpoint) options.checkpoint();
     const bool compressed = !view.compressed.empty();
     const size_t size = compressed ? view.compressed.size() : view.size;
     const uint8_t* data = compressed ? view.compressed.data() : view.data;

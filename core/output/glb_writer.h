@@ -38,8 +38,9 @@ struct GlbOptions {
   GlbEncoding encoding = GlbEncoding::kFloat;
   // kQuantized, kMeshopt: the positions' grid; unset keeps float positions (int8 normals still).
   std::optional<PositionQuantization> positions = {};
-  // Called between the encoding's steps (each a pass over the mesh: meshoptimizer's orderings, the
-  // attributes, each compression), so a caller can abandon a large file by throwing from it.
+  // Called between the encoding's steps and slices of them (a million vertices or indices, 512K
+  // triangles of meshoptimizer's cache ordering, one codec call on at most 64 MiB), so a caller
+  // can abandon a large file by throwing from it.
   std::function<void()> checkpoint = {};
 };
 

@@ -102,7 +102,7 @@ void attachUvs(const ControlMesh& control, const LimitUvs& uvs, const std::vecto
     }
     mesh.indices[c] = target;
   }
-  const std::vector<std::array<float, 2>> values = uvs.evaluate(queries);
+  const std::vector<std::array<float, 2>> values = uvs.evaluate(queries, checkpoint);
   if (checkpoint) checkpoint();
   mesh.uvs.resize(2 * values.size());
   for (size_t v = 0; v < values.size(); ++v) mesh.uvs[2 * v] = values[v][0], mesh.uvs[2 * v + 1] = values[v][1];

@@ -9,6 +9,7 @@
 #include "core/adaptive/plan_scratch.h"
 #include "core/base/error.h"
 #include "core/base/parallel_chunks.h"
+#include "core/base/work_checkpoint.h"
 #include "core/stitching/face_triangles.h"
 #include "core/stitching/tile_stitching.h"
 #include "core/stitching/tile_triangulation.h"
@@ -16,6 +17,10 @@
 namespace tessera {
 
 namespace {
+
+// Vertices evaluated, or grid cells triangulated, between checkpoints on a thread: a few
+// milliseconds, however they fall into roots (one root at a fine tolerance can hold millions).
+constexpr size_t kPointsPerCheckpoint = size_t(1) << 14;
 
 // Where vertices [first, last) lie (face, sub-face, (u, v)): tests and tools read it, a GLB does
 // not.
@@ -33,8 +38,9 @@ void recordRange(const AdaptiveSurface& surface, const Stitching& stitching, con
 // Vertices [first, last) on the limit surface (and where each lies when `record`).
 void evaluateRange(SurfaceEvaluator& evaluator, const AdaptiveSurface& surface, const AdaptivePlan& plan,
                    const Stitching& stitching, const std::vector<uint32_t>& tileRoot, bool record, size_t first,
-                   size_t last, TriangleMesh& mesh) {
+                   size_t last, TriangleMesh& mesh, WorkCheckpoint& work) {
   for (size_t i = first; i < last; ++i) {
+    work.done();
     const VertexRequest& request = stitching.vertices[i];
     const SurfaceSample sample = evaluator.evaluate(plan.tiles[request.tile].node, request.u, request.v);
     mesh.positions[i] = Vec3(sample.position);
@@ -94,6 +100,7 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
     mesh.vertexPoint.resize(count);
     for (size_t i = 0; i < count; ++i) mesh.vertexPoint[i] = stitching.vertices[i].positionOf;
   }
+  if (checkpoint) checkpoint();  // after the output's arrays are in place (a fraction of a second at 20M triangles)
   // Built per thread from references (the arguments form would copy the tree).
   tbb::enumerable_thread_specific<SurfaceEvaluator> evaluators([&] { return SurfaceEvaluator(surface.tree, patches); });
   const bool evaluated = external && external->evaluate(plan, stitching, mesh.positions, mesh.normals);
@@ -105,9 +112,10 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   const TriangulationVertices vertices{mesh.positions, mesh.normals};
   auto triangulateRun = [&](size_t r, size_t firstRoot, size_t endRoot) {
     if (checkpoint) checkpoint();
+    WorkCheckpoint work(checkpoint, kPointsPerCheckpoint);
     if (!evaluated) {
       evaluateRange(evaluators.local(), surface, plan, stitching, tileRoot, record,
-                    stitching.rootFirstVertex[firstRoot], stitching.rootFirstVertex[endRoot], mesh);
+                    stitching.rootFirstVertex[firstRoot], stitching.rootFirstVertex[endRoot], mesh, work);
     }
     const size_t firstTile = plan.rootFirstTile[firstRoot], endTile = plan.rootFirstTile[endRoot];
     // Room for the run's triangles up front (a tile makes two a cell and one a side point past
@@ -118,6 +126,7 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
     }
     outputs[r].indices.reserve(3 * room);
     for (size_t t = firstTile; t < endTile; ++t) {
+      work.done(1 + size_t(plan.tiles[t].ru) * size_t(plan.tiles[t].rv));
       const size_t before = outputs[r].indices.size();
       triangulateTile(stitching, t, plan.tiles[t], stitching.gridFirst[t], vertices, outputs[r]);
       if (record) tiles[r].insert(tiles[r].end(), (outputs[r].indices.size() - before) / 3, uint32_t(t));
@@ -139,12 +148,14 @@ std::vector<uint32_t> evaluateAndTriangulate(const PatchSet& patches, const Adap
   };
   auto evaluateSeams = [&](size_t p, size_t, size_t) {
     if (checkpoint) checkpoint();
+    WorkCheckpoint work(checkpoint, kPointsPerCheckpoint);
     SurfaceEvaluator& evaluator = evaluators.local();
     const auto [seamsFrom, seamsTo] = share(seamFirst, copyFirst, p);
     const auto [copiesFrom, copiesTo] = share(copyFirst, count, p);
-    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, seamsFrom, seamsTo, mesh);
-    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, copiesFrom, copiesTo, mesh);
+    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, seamsFrom, seamsTo, mesh, work);
+    evaluateRange(evaluator, surface, plan, stitching, tileRoot, record, copiesFrom, copiesTo, mesh, work);
     for (size_t i = copiesFrom; i < copiesTo; ++i) {
+      work.done();
       const VertexRequest& original = stitching.vertices[stitching.vertices[i].positionOf];
       mesh.positions[i] = Vec3(evaluator.evaluate(plan.tiles[original.tile].node, original.u, original.v).position);
     }

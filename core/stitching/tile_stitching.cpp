@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/base/parallel_chunks.h"
+#include "core/base/work_checkpoint.h"
 #include "core/stitching/face_triangles.h"
 #include "core/stitching/line_points.h"
 #include "core/stitching/stitch_arena.h"
@@ -17,6 +18,12 @@ namespace tessera {
 namespace {
 
 using namespace line_points;
+
+// Work between checkpoints on a thread, in tiles visited, tile sides placed on a line and points
+// made: a few milliseconds, however it falls into roots (one root at a fine tolerance can hold
+// tens of thousands of tiles and millions of points, seconds of work that a cancelled call must
+// not finish).
+constexpr size_t kWorkPerCheckpoint = size_t(1) << 14;
 using namespace stitch;
 
 // The corner (0..3, counter-clockwise from (ix, iy)) at which side k ends, low or high along it.
@@ -115,7 +122,7 @@ class Stitcher {
   Stitching run();
 
  private:
-  void stitchRoot(uint32_t root, Arena& a);
+  void stitchRoot(uint32_t root, Arena& a, WorkCheckpoint& work);
   void resolveInnerLine(uint32_t root, size_t from, size_t to, Arena& a);
   void gatherUses(const SeamLines::Line& line, std::vector<LineUse>& uses) const;
   void resolveBoundaryLine(uint32_t l, Arena& a);
@@ -159,7 +166,7 @@ class Stitcher {
 
 // One root: its inner corners and the lines inside it are resolved here; its sides on base edges
 // and spokes wait for the other roots there (resolveBoundaryLine).
-void Stitcher::stitchRoot(uint32_t root, Arena& a) {
+void Stitcher::stitchRoot(uint32_t root, Arena& a, WorkCheckpoint& work) {
   const uint32_t first = plan_.rootFirstTile[root], last = plan_.rootFirstTile[root + 1];
   RootSlice& slice = slices_[root];
   slice.arena = &a;
@@ -169,6 +176,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   a.inner.clear();
   a.cornerId.assign(4 * size_t(last - first), UINT32_MAX);
   for (uint32_t t = first; t < last; ++t) {
+    work.done();
     const Tile& tile = plan_.tiles[t];
     for (uint32_t c = 0; c < 4; ++c) {
       const int64_t x = cornerX(tile, c), y = cornerY(tile, c);
@@ -192,6 +200,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
     for (uint32_t t = first; t < last; ++t) {
       const Tile& tile = plan_.tiles[t];
       if (!tile.onRootSide(k)) continue;
+      work.done();
       if (tile.faceTriangle) {
         // Its only side on a line: the other half of edge k − 1 is the previous sub-face's, the
         // spokes have none.
@@ -216,6 +225,7 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
   a.innerUses.clear();
   a.innerKeys.clear();
   for (uint32_t t = first; t < last; ++t) {
+    work.done();
     const Tile& tile = plan_.tiles[t];
     for (int k = 0; k < 4; ++k) {
       if (tile.onRootSide(k)) continue;
@@ -235,10 +245,12 @@ void Stitcher::stitchRoot(uint32_t root, Arena& a) {
     size_t j = i;
     while (j < a.innerKeys.size() && a.innerKeys[j].line == a.innerKeys[i].line) ++j;
     resolveInnerLine(root, i, j, a);
+    work.done((j - i) + a.points.points.size());
     i = j;
   }
   for (uint32_t t = first; t < last; ++t) {
     const Tile& tile = plan_.tiles[t];
+    work.done(1 + size_t(tile.ru - 1) * size_t(tile.rv - 1));
     gridLocal_[t] = uint32_t(a.locals.size()) - slice.localsFrom;
     for (int j = 1; j < tile.rv; ++j) {
       for (int i = 1; i < tile.ru; ++i) {
@@ -630,25 +642,31 @@ Stitching Stitcher::run() {
   gridLocal_.resize(tiles);
   records_.resize(lines_.lines.size());
   // The roots, then each line by the part that stitched the root of its first side (all of its
-  // roots stitched by then).
+  // roots stitched by then). The checkpoint as each part starts and then by work done.
   forOwnedPartsTwice(
       roots, 16,
       [&](size_t, size_t first, size_t last) {
         if (checkpoint_) checkpoint_();
+        WorkCheckpoint work(checkpoint_, kWorkPerCheckpoint);
         Arena& a = *arenas_.local().arena;
         for (size_t r = first; r != last; ++r) {
-          if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), a);
+          if (plan_.rootFirstTile[r] < plan_.rootFirstTile[r + 1]) stitchRoot(uint32_t(r), a, work);
         }
       },
       [&](size_t, size_t first, size_t last) {
+        if (checkpoint_) checkpoint_();
+        WorkCheckpoint work(checkpoint_, kWorkPerCheckpoint);
         Arena& a = *arenas_.local().arena;
         for (uint32_t i = lines_.rootFirstLine[first]; i < lines_.rootFirstLine[last]; ++i) {
           resolveBoundaryLine(lines_.linesByRoot[i], a);
+          work.done(1 + a.line.size());  // the line's tile sides
         }
       });
   if (checkpoint_) checkpoint_();
   numberSeamVertices();
+  if (checkpoint_) checkpoint_();
   assemble();
+  if (checkpoint_) checkpoint_();
   out_.copyFirst = uint32_t(out_.vertices.size());
   splitNormals();
   return std::move(out_);

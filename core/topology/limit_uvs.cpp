@@ -59,9 +59,11 @@ size_t LimitUvs::bytes() const {
   return bytes;
 }
 
-std::vector<std::array<float, 2>> LimitUvs::evaluate(const std::vector<UvQuery>& queries) const {
+std::vector<std::array<float, 2>> LimitUvs::evaluate(const std::vector<UvQuery>& queries,
+                                                     const std::function<void()>& checkpoint) const {
   std::vector<std::array<float, 2>> result(queries.size(), {0.0f, 0.0f});
   tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 1024), [&](const auto& range) {
+    if (checkpoint) checkpoint();
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const UvQuery& q = queries[i];
       const Impl::FaceSurface& face = impl_->faces[size_t(q.face)];

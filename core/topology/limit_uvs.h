@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -30,7 +31,10 @@ class LimitUvs {
   size_t bytes() const;
 
   // The UV at each query, on all cores.
-  std::vector<std::array<float, 2>> evaluate(const std::vector<UvQuery>& queries) const;
+  // `checkpoint` (may be empty, may throw: a cancelled call) is called before each batch of
+  // queries a core takes (about a thousand: millions of queries are seconds of work).
+  std::vector<std::array<float, 2>> evaluate(const std::vector<UvQuery>& queries,
+                                             const std::function<void()>& checkpoint = {}) const;
 
  private:
   struct Impl;

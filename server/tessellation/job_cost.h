@@ -9,6 +9,17 @@
 // base face, core/uniform/uniform_levels.h). A content never tessellated has no estimate
 // and takes the main lane; the scale errs towards more triangles at finer tolerances (a coarse
 // job's floor of two triangles a face inflates its coefficient).
+//
+// What would make an estimate small when the job is not (each closed here, job_cost_test.cpp):
+// - η = 0 runs another path (the paper's single-phase baseline, core/pipeline/tessellate.h) that
+//   makes 1.5-7 times the adaptive path's triangles (bigguy: 19,562 against 2,900 at 1e-2):
+//   it has its own coefficients.
+// - A pixel-accurate job is coarser away from the camera than its finest tolerance: its
+//   coefficient would under-estimate a tolerance job, so it records none; it is estimated from the
+//   tolerance jobs' coefficient at its finest tolerance, which over-estimates it.
+// - A quantized or meshopt job plans to ε less the grid's error, up to kQuantizationShare of it:
+//   it is estimated at that smaller tolerance (and records at its ε, erring high for the others).
+// Frames (Render) always take the main lane, so they need no estimate here.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +41,9 @@ struct JobShape {
   bool uniform = false;
   int level = 0;
   double relativeTolerance = 0;
+  bool singlePhase = false;  // η = 0: the single-phase path, its own coefficients
+  bool camera = false;       // pixel accuracy: estimated from the tolerance jobs', records none
+  bool quantizing = false;   // quantized or meshopt: planned to up to kQuantizationShare less
 };
 
 JobShape shapeOf(const ControlMesh& mesh, const TessellationJob& job);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <memory>
 #include <thread>
 
@@ -85,9 +86,12 @@ class RunawayTest : public ::testing::Test {
   // After a long call ended: idle within 2 s, and resident memory within 300 MB of `rssBefore`.
   void expectIdleAndReleased(int64_t rssBefore) {
     const double idleAfter = secondsUntilIdle(server_->pid(), 10);
+    const int64_t rss = processMemoryBytes(server_->pid(), "VmRSS");
+    std::printf("  the server's CPU idle %.2f s after the call ended; VmRSS %.0f MiB (%.0f MiB before)\n", idleAfter,
+                double(rss) / kMiB, double(rssBefore) / kMiB);
     EXPECT_GE(idleAfter, 0) << "the server is still busy 10 s after the call ended";
     EXPECT_LE(idleAfter, 2.0) << server_->log();
-    EXPECT_LE(processMemoryBytes(server_->pid(), "VmRSS"), rssBefore + 300 * kMiB);
+    EXPECT_LE(rss, rssBefore + 300 * kMiB);
   }
 
   TempDir dir_;
@@ -104,6 +108,7 @@ TEST_F(RunawayTest, ALongTessellateEndsAtItsDeadlineInEveryStageAndTheServerGoes
     Call call(server_->channel(), longRequest(), deadline);
     const auto start = Clock::now();
     EXPECT_EQ(call.finish().error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+    std::printf("deadline %.1f s: the call ended after %.2f s\n", deadline, secondsSince(start));
     EXPECT_LE(secondsSince(start), deadline + 1.0);
     expectIdleAndReleased(rssBefore);
   }
@@ -129,6 +134,8 @@ TEST_F(RunawayTest, SigtermStopsAServerRunningLongJobsWithinTheDrainDelayAndGrac
   ASSERT_TRUE(waitForRunningJobs(2));
   const auto start = Clock::now();
   EXPECT_EQ(server_->terminate(), 0);
+  std::printf("SIGTERM with 2 long jobs running and one queued: the process gone after %.2f s (drain %.1f s, grace %.1f s)\n",
+              secondsSince(start), kDrain, kGrace);
   // Cancelled jobs stop within 1 s of the grace's end; the rest is the process's own exit, which
   // took 1.1 s on a loaded CI run. Without the engine's checkpoint it took 5.7 s.
   EXPECT_LE(secondsSince(start), kDrain + kGrace + 2.0);
@@ -154,6 +161,9 @@ void expectCheapWorkServedBesideLongJobs(v1::MeshService::Stub& meshes, const st
   writer->WritesDone();
   const grpc::Status uploaded = writer->Finish();
   const grpc::Status tessellated = cheap.finish();
+  std::printf("beside the long jobs: upload %s, warm Tessellate %s, both answered within %.2f s\n",
+              uploaded.ok() ? "OK" : uploaded.error_message().c_str(), tessellated.ok() ? "OK" : tessellated.error_message().c_str(),
+              secondsSince(start));
   if (served) {
     EXPECT_TRUE(uploaded.ok()) << uploaded.error_message();
     EXPECT_TRUE(tessellated.ok()) << tessellated.error_message();
