@@ -34,31 +34,12 @@ import bpy
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blender_session import metric, start_server, write_cage, write_result  # noqa: E402
+from blender_session import creased_cube, metric, start_server, write_cage, write_result  # noqa: E402
 
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
 HITS, BUILT = "tessera_topology_cache_hits_total", "tessera_topology_cache_misses_total"
 UPLOADED = "tessera_upload_bytes_total"  # the uploads' data bytes as the server counts them
-
-
-def creased_cube():
-    """Blender's cube (with its UV unwrap) away from the origin, its top rim infinitely sharp, one
-    bottom corner a semi-sharp corner."""
-    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(1.0, 2.0, 0.5), rotation=(0.0, 0.0, 0.3))
-    cube = bpy.context.active_object
-    cube.name = "Cage"
-    mesh = bmesh.new()
-    mesh.from_mesh(cube.data)
-    edge_crease, vertex_crease = mesh.edges.layers.crease.verify(), mesh.verts.layers.crease.verify()
-    for edge in mesh.edges:
-        if all(v.co.z > 0 for v in edge.verts):
-            edge[edge_crease] = 1.0
-    next(v for v in mesh.verts if v.co.z < 0 and v.co.x < 0 and v.co.y < 0)[vertex_crease] = 0.8
-    mesh.to_mesh(cube.data)
-    mesh.free()
-    cube.modifiers.new("Subdivision", "SUBSURF").uv_smooth = UV_RULE[0]
-    return cube
 
 
 class Live:
@@ -211,7 +192,7 @@ def main():
         from tessera_client import TesseraClient
         preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
         preferences.server, preferences.live_debounce = address, 0.02
-        cube = creased_cube()
+        cube = creased_cube(UV_RULE[0])
         cube.tessera.tolerance = TOLERANCE
         report = {"server": "tessera-server on loopback", "tolerance": TOLERANCE}
 
