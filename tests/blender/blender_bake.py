@@ -66,6 +66,36 @@ class Modal:
         return answer
 
 
+class PanelLayout:
+    """Records the labels the panel's draw() puts on screen (background mode draws no panels)."""
+
+    def __init__(self):
+        self.labels, self.alert = [], False
+
+    def prop(self, *args, **kwargs):
+        pass
+
+    def operator(self, *args, **kwargs):
+        pass
+
+    def row(self):
+        return self
+
+    def column(self):
+        return self
+
+    def label(self, text="", icon="NONE"):
+        self.labels.append((text, self.alert))
+
+
+def panel_labels(cube):
+    import tessera_subdiv  # noqa: PLC0415
+    bpy.context.view_layer.objects.active = cube
+    layout = PanelLayout()
+    tessera_subdiv.TESSERA_PT_panel.draw(type("Panel", (), {"layout": layout})(), bpy.context)
+    return layout.labels
+
+
 def refused() -> str:
     """The operator called from a script (executed: the whole range), which must fail: an
     operator's ERROR report is raised in background mode. Returns the message."""
@@ -120,12 +150,15 @@ def main():
         def note_progress():
             progress.append(bake.progress())
             return False
+        modal.event("TIMER")
+        assert (bake.progress(), False) in panel_labels(cube), panel_labels(cube)  # "Baking frame 1 ..."
         assert modal.run(until=note_progress) == {"FINISHED"}, modal.operator.reports
         assert bake.state == "finished", (bake.state, bake.error)
         assert modal.operator.reports == [({"INFO"}, f"Tessera: {bake.progress()}")], modal.operator.reports
         assert bake.baked == list(FRAMES), bake.baked
         assert any(p.startswith("Baking frame 3 (2 of 5 done)") for p in progress), progress
         assert bake.progress().startswith("Baked 5 frames (1-5)"), bake.progress()
+        assert (bake.progress(), False) in panel_labels(cube), panel_labels(cube)
         assert scene.frame_current == 3 and cube.modifiers["Subdivision"].show_viewport, "not put back"
         hits = metric(metrics_address, HITS) - before[0]
         built = metric(metrics_address, BUILT) - before[1]
@@ -182,6 +215,7 @@ def main():
         bake = bake_module.bake_of(cube)
         assert bake.state == "failed" and "min_relative_tolerance" in bake.error, (bake.state, bake.error)
         assert bake.progress().startswith("Bake failed after 0 of 5 frames"), bake.progress()
+        assert (bake.progress(), True) in panel_labels(cube), panel_labels(cube)  # shown as an error
         assert cube.modifiers["Subdivision"].show_viewport
         cube.tessera.tolerance = TOLERANCE
 
