@@ -3,7 +3,8 @@ tessera-server. A creased, UV-mapped cube with a Subdivision modifier goes live;
 in edit mode through bmesh, one crease change, a shape-key animation over five frames, a move of
 the 3D viewport's view in pixel mode, a refused request and a return to a relative tolerance each
 reach `Cage_tessera`, the same object each time with its mesh replaced (its material and modifier
-kept). The position-only edits take the server's topology-reuse path (its /metrics), per-edit
+kept). The position-only edits are uploaded positions-only and take the server's topology-reuse
+path (its /metrics); when the mesh they name is gone they are uploaded whole. Per-edit
 round trips go to OUT_DIR/live-round-trips.json, and the last cage sent and the final mesh are
 written (Y-up, as sent) for tessera-limit-check, as is the pixel-mode result with its bound.
 
@@ -33,30 +34,12 @@ import bpy
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blender_session import metric, start_server, write_cage, write_result  # noqa: E402
+from blender_session import creased_cube, metric, start_server, write_cage, write_result  # noqa: E402
 
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
 HITS, BUILT = "tessera_topology_cache_hits_total", "tessera_topology_cache_misses_total"
-
-
-def creased_cube():
-    """Blender's cube (with its UV unwrap) away from the origin, its top rim infinitely sharp, one
-    bottom corner a semi-sharp corner."""
-    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(1.0, 2.0, 0.5), rotation=(0.0, 0.0, 0.3))
-    cube = bpy.context.active_object
-    cube.name = "Cage"
-    mesh = bmesh.new()
-    mesh.from_mesh(cube.data)
-    edge_crease, vertex_crease = mesh.edges.layers.crease.verify(), mesh.verts.layers.crease.verify()
-    for edge in mesh.edges:
-        if all(v.co.z > 0 for v in edge.verts):
-            edge[edge_crease] = 1.0
-    next(v for v in mesh.verts if v.co.z < 0 and v.co.x < 0 and v.co.y < 0)[vertex_crease] = 0.8
-    mesh.to_mesh(cube.data)
-    mesh.free()
-    cube.modifiers.new("Subdivision", "SUBSURF").uv_smooth = UV_RULE[0]
-    return cube
+UPLOADED = "tessera_upload_bytes_total"  # the uploads' data bytes as the server counts them
 
 
 class Live:
@@ -180,12 +163,12 @@ def topology_counters(metrics_address):
 
 
 def check_reuse(what, before, after, sends):
-    """Each preprocessing of a cage with an unchanged topology reused it, except the one the server
-    keeps it from (docs/DECISIONS.md, "Edits reuse topology": kept from its second patch set on)."""
+    """Every tessellation of a cage uploaded positions-only reused the topology: the upload keeps
+    it (docs/DECISIONS.md, "Edits reuse topology"), built once at the first such upload unless the
+    server kept it already."""
     hits, built = after[0] - before[0], after[1] - before[1]
     print(f"{what}: {sends} sends, topology cache hits {hits:g}, topologies built {built:g}")
-    assert hits + built == sends, (what, hits, built, sends)
-    assert built <= 1 and hits >= sends - 1, (what, hits, built)
+    assert hits == sends and built <= 1, (what, hits, built, sends)
     return {"sends": sends, "topology_cache_hits": hits, "topologies_built": built}
 
 
@@ -205,9 +188,11 @@ def main():
         from tessera_subdiv import live
         from tessera_subdiv.cage import read_cage, to_y_up
         from tessera_subdiv.viewport import active_viewport_view
+        from tessera_subdiv.request import mesh_id, upload_cage
+        from tessera_client import TesseraClient
         preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
         preferences.server, preferences.live_debounce = address, 0.02
-        cube = creased_cube()
+        cube = creased_cube(UV_RULE[0])
         cube.tessera.tolerance = TOLERANCE
         report = {"server": "tessera-server on loopback", "tolerance": TOLERANCE}
 
@@ -228,22 +213,52 @@ def main():
         bpy.context.view_layer.objects.active = cube  # the panel draws the active object's
         bpy.ops.object.mode_set(mode="EDIT")
         driver.settle()  # entering edit mode leaves the cage as it was: nothing is sent
+        # Each is uploaded positions-only on the last mesh's topology: the server counts the
+        # positions' bytes and nothing else (8 vertices, 3 float32 each).
         before = topology_counters(metrics_address)
         for i in range(10):
+            uploaded = metric(metrics_address, UPLOADED)
             edit_mesh(cube, move_vertex(i % 8, Vector((0.02, -0.03, 0.05)) * (1 + i % 3)))
             driver.noticed(f"move {i + 1}")
             record = driver.update(f"move {i + 1}")
-            assert record["same_topology"] and not record["uvs_changed"] and record["upload"] == "full", record
+            assert record["same_topology"] and not record["uvs_changed"] and record["upload"] == "positions", record
+            sent = driver.session.applied_job.cage
+            assert metric(metrics_address, UPLOADED) - uploaded == 4 * len(sent.positions) == 96, \
+                (metric(metrics_address, UPLOADED) - uploaded, len(sent.positions))
             records.append(record)
         report["moves"] = check_reuse("ten moves", before, topology_counters(metrics_address), 10)
 
-        # A UV edit: new UV values on the same topology (the positions-only upload would carry
-        # them), whose preprocessing reuses it too.
+        # The mesh an edit's upload names is gone from the server (deleted by another client): the
+        # positions-only upload is refused NOT_FOUND and the whole cage is sent instead.
+        client = TesseraClient(address)
+        client.delete_mesh(driver.session.sent_identifier)
+        edit_mesh(cube, move_vertex(3, Vector((0.01, 0.02, -0.01))))
+        driver.noticed("move, its parent deleted")
+        record = driver.update("move, its parent deleted")
+        assert record["same_topology"] and record["upload"] == "full", record
+        records.append(record)
+        # A mesh whose counts differ (INVALID_ARGUMENT from the server): the whole cage too, stored
+        # with its own vertex count. And a cage the server has: nothing sent.
+        client.upload_arrays("one-quad", [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0], [4], [0, 1, 2, 3])
+        sent = driver.session.applied_job.cage
+        moved = dataclasses.replace(sent, positions=[c + 0.25 for c in sent.positions])
+        assert upload_cage(client, mesh_id(moved), moved, "Cage", 30.0, same_topology_as="one-quad",
+                           uvs_changed=False) == "full"
+        assert client.get_mesh(mesh_id(moved)).vertex_count == 8
+        assert upload_cage(client, mesh_id(sent), sent, "Cage", 30.0, same_topology_as=mesh_id(moved),
+                           uvs_changed=False) == "none"
+
+        # A UV edit: new UV values on the same topology, carried by the positions-only upload,
+        # whose preprocessing reuses it too.
         before = topology_counters(metrics_address)
+        uploaded = metric(metrics_address, UPLOADED)
         edit_mesh(cube, shift_uvs_of_a_vertex)
         driver.noticed("UV edit")
         record = driver.update("UV edit")
-        assert record["same_topology"] and record["uvs_changed"], record
+        assert record["same_topology"] and record["uvs_changed"] and record["upload"] == "positions", record
+        sent = driver.session.applied_job.cage
+        assert metric(metrics_address, UPLOADED) - uploaded == 4 * (len(sent.positions) + len(sent.uvs)), \
+            "the UV edit's upload is not its positions and UVs"
         report["uv_edit"] = check_reuse("UV edit", before, topology_counters(metrics_address), 1)
         assert report["uv_edit"]["topology_cache_hits"] == 1
         records.append(record)
@@ -253,7 +268,7 @@ def main():
         edit_mesh(cube, crease_an_edge)
         driver.noticed("crease")
         record = driver.update("crease")
-        assert not record["same_topology"], record
+        assert not record["same_topology"] and record["upload"] == "full", record
         assert topology_counters(metrics_address)[1] == before[1] + 1, "the creased cage's topology was not built"
         records.append(record)
         creases = len(live.session_of(cube).applied_job.cage.creases)
@@ -281,7 +296,7 @@ def main():
             scene.frame_set(frame)
             driver.noticed(f"frame {frame}")
             record = driver.update(f"frame {frame}")
-            assert record["same_topology"] and "frame" in record["reasons"], record
+            assert record["same_topology"] and "frame" in record["reasons"] and record["upload"] == "positions", record
             records.append(record)
         report["frames"] = check_reuse("five frames", before, topology_counters(metrics_address), 5)
         # The cage sent at frame 5 is the shape key's, value 1 (Blender's data, read independently).
@@ -318,7 +333,7 @@ def main():
         bpy.context.view_layer.update()
         driver.noticed("pose")
         record = driver.update("armature posed")
-        assert record["same_topology"], record
+        assert record["same_topology"] and record["upload"] == "positions", record
         report["pose"] = check_reuse("pose", before, topology_counters(metrics_address), 1)
         records.append(record)
         # Every vertex moved by the bone's head, from the armature's frame to the cube's, Y-up.

@@ -1,5 +1,5 @@
 """What a headless Blender test of the add-on needs beside Blender: a real tessera-server on
-loopback, its /metrics counters, and OBJ files (cage with its crease and corner tags, result) for
+loopback, the creased cube the live and bake tests send, its /metrics counters, and OBJ files (cage with its crease and corner tags, result) for
 tessera-limit-check."""
 import subprocess
 import tempfile
@@ -22,6 +22,29 @@ def start_server(server_binary: str):
     lines = ready.read_text().splitlines()
     return process, next(line[5:] for line in lines if line.startswith("grpc=")), \
         next(line[8:] for line in lines if line.startswith("metrics="))
+
+
+def creased_cube(uv_smooth: str = "PRESERVE_BOUNDARIES", corner: bool = True):
+    """Blender's cube (with its UV unwrap) away from the origin, its top rim infinitely sharp, one
+    bottom corner a semi-sharp corner (unless not `corner`), a Subdivision modifier with the UV
+    rule uv_smooth."""
+    import bmesh  # noqa: PLC0415 (Blender's modules: this file is imported outside Blender too)
+    import bpy  # noqa: PLC0415
+    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(1.0, 2.0, 0.5), rotation=(0.0, 0.0, 0.3))
+    cube = bpy.context.active_object
+    cube.name = "Cage"
+    mesh = bmesh.new()
+    mesh.from_mesh(cube.data)
+    edge_crease, vertex_crease = mesh.edges.layers.crease.verify(), mesh.verts.layers.crease.verify()
+    for edge in mesh.edges:
+        if all(v.co.z > 0 for v in edge.verts):
+            edge[edge_crease] = 1.0
+    if corner:
+        next(v for v in mesh.verts if v.co.z < 0 and v.co.x < 0 and v.co.y < 0)[vertex_crease] = 0.8
+    mesh.to_mesh(cube.data)
+    mesh.free()
+    cube.modifiers.new("Subdivision", "SUBSURF").uv_smooth = uv_smooth
+    return cube
 
 
 def metric(metrics_address: str, name: str) -> float:

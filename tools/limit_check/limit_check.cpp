@@ -6,7 +6,9 @@
 //   tessera-limit-check --cage CAGE.obj --mesh MESH.obj [--uv-interpolation all|none|...]
 //
 // Prints one JSON object: the two-sided distance (reference/limit_distance.h) in object units
-// and relative to the cage's diagonal; and, when both files have UVs, the largest difference
+// and relative to the cage's diagonal, and its two directions apart (mesh to limit, from samples
+// projected onto the limit surface, with the face of the worst; limit to mesh, from a grid on the
+// limit domains, which needs no projection); and, when both files have UVs, the largest difference
 // between a corner's UV and Bfr's at the limit point its vertex projects to, over corners whose
 // vertex projects inside a face (away from its edges by 2 %, where a UV seam could make either
 // side's UV the right one).
@@ -70,9 +72,15 @@ UvCheck checkUvs(const ControlMesh& cage, const testing::LimitSurface& surface, 
 int main(int argc, char** argv) {
   CLI::App app("How far a mesh lies from its cage's limit surface, and its UVs from OpenSubdiv's");
   std::string cagePath, meshPath, rule = "all";
+  double reprojectBeyond = -1;
   app.add_option("--cage", cagePath, "The control cage (OBJ, with its crease and corner tags)")->required();
   app.add_option("--mesh", meshPath, "The triangle mesh to check (OBJ)")->required();
   app.add_option("--uv-interpolation", rule, "The cage's UV rule (OpenSubdiv's FVAR_LINEAR_*)");
+  app.add_option("--reproject-beyond", reprojectBeyond,
+                 "A mesh sample whose nearest limit point from the spatial seeds is farther than this fraction "
+                 "of the diagonal is projected again from every domain (where the surface folds back, the seeds "
+                 "may all lie on another sheet); default: never")
+      ->check(CLI::NonNegativeNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     ControlMesh cage = readObjFile(cagePath);
@@ -88,11 +96,16 @@ int main(int argc, char** argv) {
       if (size != 3) throw std::invalid_argument(meshPath + " has a face of " + std::to_string(size) + " vertices; triangles only");
     }
     view.indices = indices;
-    const testing::LimitDistanceReport report = testing::measureLimitDistance(surface, view);
+    testing::LimitDistanceOptions options;
+    if (reprojectBeyond >= 0) options.everyDomainBeyond = reprojectBeyond * surface.diagonal();
+    const testing::LimitDistanceReport report = testing::measureLimitDistance(surface, view, options);
     const UvCheck uvs = checkUvs(cage, surface, mesh);
     std::printf("{\"twoSided\": %.9g, \"relative\": %.9g, \"diagonal\": %.9g, \"triangles\": %zu, "
-                "\"uvCornersChecked\": %zu, \"uvWorst\": %.9g}\n",
-                report.twoSided(), report.twoSidedRelative(), report.diagonal, indices.size() / 3, uvs.checked, uvs.worst);
+                "\"uvCornersChecked\": %zu, \"uvWorst\": %.9g, \"meshToLimit\": %.9g, \"limitToMesh\": %.9g, "
+                "\"meshToLimitFace\": %d, \"limitToMeshFace\": %d, \"trianglesReprojected\": %zu}\n",
+                report.twoSided(), report.twoSidedRelative(), report.diagonal, indices.size() / 3, uvs.checked, uvs.worst,
+                report.meshToLimit, report.limitToMesh, report.meshToLimitAt.face, report.limitToMeshAt.face,
+                report.trianglesReprojected);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "tessera-limit-check: %s\n", error.what());
     return 1;

@@ -12,9 +12,11 @@ bl_info = {
     "category": "Object",
 }
 
+import time
+
 import bpy
 
-from . import live
+from . import bake, live
 from .cage import read_cage, subdivision_modifier
 from .glb_mesh import build_mesh
 from .request import (RESULT_SUFFIX, Accuracy, TesseraError, as_tessera_error, glb_encoding, mesh_id,  # noqa: F401
@@ -124,6 +126,60 @@ class TESSERA_OT_tessellate(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class TESSERA_OT_bake_frames(bpy.types.Operator):
+    """Tessellate every frame of a range on the Tessera server, each kept as an object shown on its
+    frame (Esc cancels; the frames baked so far stay)"""
+    bl_idname = "object.tessera_bake_frames"
+    bl_label = "Bake frame range"
+    bl_options = {"REGISTER"}
+
+    frame_start: bpy.props.IntProperty(name="Start", default=-1, description="First frame (-1: the scene's start)")
+    frame_end: bpy.props.IntProperty(name="End", default=-1, description="Last frame (-1: the scene's end)")
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.active_object
+        return obj is not None and obj.type == "MESH" and subdivision_modifier(obj) is not None
+
+    def _start(self, context):
+        scene = context.scene
+        start = scene.frame_start if self.frame_start < 0 else self.frame_start
+        end = scene.frame_end if self.frame_end < 0 else self.frame_end
+        return bake.start(context, context.active_object, start, end)
+
+    def invoke(self, context, event):
+        """A modal bake: a timer steps it (Blender stays responsive; the panel shows progress)."""
+        try:
+            self._bake = self._start(context)
+        except TesseraError as error:
+            self.report({"ERROR"}, f"Tessera: {error}")
+            return {"CANCELLED"}
+        self._timer = context.window_manager.event_timer_add(0.05, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type in ("TIMER", "ESC"):
+            self._bake.on_event(context, event.type)
+        if self._bake.state == "running":
+            return {"RUNNING_MODAL"} if event.type == "ESC" else {"PASS_THROUGH"}
+        context.window_manager.event_timer_remove(self._timer)
+        self.report({"ERROR" if self._bake.state == "failed" else "INFO"}, f"Tessera: {self._bake.progress()}")
+        return {"FINISHED"} if self._bake.state == "finished" else {"CANCELLED"}
+
+    def execute(self, context):
+        """From a script: the whole range, blocking."""
+        try:
+            running = self._start(context)
+        except TesseraError as error:
+            self.report({"ERROR"}, f"Tessera: {error}")
+            return {"CANCELLED"}
+        while running.on_event(context, "TIMER"):
+            time.sleep(0.01)
+        self.report({"ERROR" if running.state == "failed" else "INFO"}, f"Tessera: {running.progress()}")
+        return {"FINISHED"} if running.state == "finished" else {"CANCELLED"}
+
+
 class TESSERA_PT_panel(bpy.types.Panel):
     bl_label = "Tessera"
     bl_space_type = "PROPERTIES"
@@ -144,6 +200,12 @@ class TESSERA_PT_panel(bpy.types.Panel):
         row = layout.row()
         row.operator(TESSERA_OT_tessellate.bl_idname)
         row.prop(settings, "live", toggle=True)
+        layout.operator(TESSERA_OT_bake_frames.bl_idname)
+        baking = bake.bake_of(obj)
+        if baking is not None:
+            column = layout.column()
+            column.alert = baking.state == "failed"
+            column.label(text=baking.progress(), icon="ERROR" if baking.state == "failed" else "NONE")
         session = live.session_of(obj)
         if session is None:
             return
@@ -160,7 +222,7 @@ class TESSERA_PT_panel(bpy.types.Panel):
             column.label(text=session.error, icon="ERROR")
 
 
-_CLASSES = (TesseraPreferences, TesseraSettings, TESSERA_OT_tessellate, TESSERA_PT_panel)
+_CLASSES = (TesseraPreferences, TesseraSettings, TESSERA_OT_tessellate, TESSERA_OT_bake_frames, TESSERA_PT_panel)
 
 
 def register():
@@ -171,6 +233,7 @@ def register():
 
 
 def unregister():
+    bake.stop_all()
     live.unregister()
     del bpy.types.Object.tessera
     for cls in reversed(_CLASSES):

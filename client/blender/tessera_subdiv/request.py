@@ -83,23 +83,37 @@ class Accuracy:
 
 
 def upload_cage(client, identifier: str, cage: Cage, display_name: str, timeout: float,
-                same_topology_as: Optional[str] = None, uvs_changed: bool = True) -> str:
+                same_topology_as: Optional[str] = None, uvs_changed: bool = True,
+                origin: Tuple[float, float, float] = (0.0, 0.0, 0.0)) -> str:
     """Uploads the cage as `identifier` unless the server has it. `same_topology_as` names the
     mesh this session uploaded last when the add-on found the topology unchanged since
     (cage.topology_signature), and `uvs_changed` says whether the UV values differ from that
-    mesh's: that is where a positions-only upload (issue 48, item 2: the positions, and the UVs
-    if they changed) plugs in. The Python client has none yet, so the full cage is sent, and the
-    server's topology cache makes its preprocessing the cheap path
-    (tessera_topology_cache_hits_total). Returns what was sent: "full", or "none" for a cage the
-    server already had."""
+    mesh's: then only the positions (and the UVs if they changed) are sent, on that mesh's
+    topology (TesseraClient.upload_positions; issue 48, item 2), and the server keeps the
+    topology ready for the tessellation. Should the server not have that mesh any more
+    (NOT_FOUND) or refuse the counts (INVALID_ARGUMENT), the whole cage is sent instead.
+    `origin` goes to either upload (a positions-only upload does not inherit it); the add-on
+    sends object-local positions, so none. Returns what was sent: "positions", "full", or
+    "none" for a cage the server already had."""
     from tessera_client import TesseraError as ClientError  # noqa: PLC0415
     import grpc  # noqa: PLC0415
-    del same_topology_as, uvs_changed  # until the client can upload positions only
+    if same_topology_as is not None:
+        try:
+            client.upload_positions(identifier, topology_of=same_topology_as, positions=cage.positions,
+                                    uvs=cage.uvs if uvs_changed else None, origin=origin,
+                                    display_name=display_name, timeout=timeout)
+            return "positions"
+        except ClientError as error:
+            if error.code == grpc.StatusCode.ALREADY_EXISTS:  # the same cage, uploaded before
+                return "none"
+            if error.code not in (grpc.StatusCode.NOT_FOUND, grpc.StatusCode.INVALID_ARGUMENT):
+                raise
+            # The mesh it names is gone (deleted, another server) or its counts differ: whole.
     try:
         client.upload_arrays(identifier, cage.positions, cage.face_sizes, cage.face_vertices, creases=cage.creases,
                              corners=cage.corners, display_name=display_name, boundary=cage.boundary,
                              uvs=cage.uvs, uv_indices=cage.uv_indices, uv_interpolation=cage.uv_interpolation,
-                             timeout=timeout)
+                             origin=origin, timeout=timeout)
     except ClientError as error:
         if error.code != grpc.StatusCode.ALREADY_EXISTS:  # the same cage, uploaded before
             raise
