@@ -142,12 +142,12 @@ TEST(PatchSetCache, AFinerRequestsPatchSetServesACoarserOne) {
   auto coarse = cache.get(mesh, sha, {}, nullptr, 1e-2);
   EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-2), coarse);
   EXPECT_EQ(cache.stats().misses, 1u);
-  auto fine = cache.get(mesh, sha, {}, nullptr, 1e-5);
+  auto fine = cache.get(mesh, sha, {}, nullptr, 1e-6);
   EXPECT_NE(fine, coarse);
   EXPECT_EQ(cache.stats().misses, 2u);
-  EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-3), fine);  // 1e-5's chains serve 1e-3
+  EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-3), fine);  // 1e-6's chains serve 1e-3
   EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 1e-2), coarse);  // its own tier first
-  // 1e-5 is deep enough for any request (kChainFloor): what a request of unknown ε gets.
+  // 1e-6 is deep enough for any request (kChainFloor): what a request of unknown ε gets.
   EXPECT_EQ(cache.get(mesh, sha, {}, nullptr, 0), fine);
   EXPECT_EQ(cache.stats().misses, 2u);
   // The finer build, the topology's second, kept it.

@@ -11,7 +11,10 @@
 // limit domains, which needs no projection); and, when both files have UVs, the largest difference
 // between a corner's UV and Bfr's at the limit point its vertex projects to, over corners whose
 // vertex projects inside a face (away from its edges by 2 %, where a UV seam could make either
-// side's UV the right one).
+// side's UV the right one). With --far-level L, the mesh to limit direction a second way that
+// needs neither Bfr nor a projection: each sample's distance to the nearest triangle of Far's
+// uniform refinement of the cage at levels L − 1 and L (the refined control mesh, its quads split),
+// which converges to the limit surface as L grows (the two levels show how far it has).
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -20,10 +23,13 @@
 
 #include "core/mesh/obj_reader.h"
 #include "core/mesh/subdivision_rules.h"
+#include "core/math/bicubic.h"
 #include "reference/bfr_reference.h"
+#include "reference/far_reference.h"
 #include "reference/limit_distance.h"
 #include "reference/limit_projection.h"
 #include "reference/limit_surface.h"
+#include "reference/triangle_bvh.h"
 
 using namespace tessera;
 
@@ -67,12 +73,41 @@ UvCheck checkUvs(const ControlMesh& cage, const testing::LimitSurface& surface, 
   return check;
 }
 
+// The largest distance from the mesh's vertices and seven points of each triangle (its centroid,
+// edge midpoints and the points halfway between them and the corners) to the triangles of Far's
+// uniform refinement of `cage` at `level`.
+double meshToFarRefinement(const ControlMesh& cage, const ControlMesh& mesh, int level) {
+  const testing::FarRefinement far = testing::FarRefinement::uniform(cage, level);
+  const auto& last = far.refiner->GetLevel(level);
+  std::vector<Vec3> positions(size_t(last.GetNumVertices()));
+  for (int v = 0; v < last.GetNumVertices(); ++v) positions[size_t(v)] = Vec3(far.position(level, v));
+  std::vector<uint32_t> indices;
+  for (int f = 0; f < last.GetNumFaces(); ++f) {
+    const auto corners = last.GetFaceVertices(f);
+    for (int k = 1; k + 1 < corners.size(); ++k) {
+      for (int c : {0, k, k + 1}) indices.push_back(uint32_t(corners[c]));
+    }
+  }
+  const testing::TriangleBvh bvh(positions, indices);
+  double worst = 0;
+  for (const Vec3& p : mesh.positions) worst = std::max(worst, bvh.nearest(Vec3d(p)).distance);
+  constexpr double kWeights[7][3] = {{1 / 3., 1 / 3., 1 / 3.}, {.5, .5, 0}, {0, .5, .5}, {.5, 0, .5},
+                                     {2 / 3., 1 / 6., 1 / 6.}, {1 / 6., 2 / 3., 1 / 6.}, {1 / 6., 1 / 6., 2 / 3.}};
+  for (size_t t = 0; t + 2 < mesh.faceVertices.size(); t += 3) {
+    const Vec3d a(mesh.positions[size_t(mesh.faceVertices[t])]), b(mesh.positions[size_t(mesh.faceVertices[t + 1])]),
+        c(mesh.positions[size_t(mesh.faceVertices[t + 2])]);
+    for (const auto& w : kWeights) worst = std::max(worst, bvh.nearest(a * w[0] + b * w[1] + c * w[2]).distance);
+  }
+  return worst;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app("How far a mesh lies from its cage's limit surface, and its UVs from OpenSubdiv's");
   std::string cagePath, meshPath, rule = "all";
   double reprojectBeyond = -1;
+  int farLevel = 0;
   app.add_option("--cage", cagePath, "The control cage (OBJ, with its crease and corner tags)")->required();
   app.add_option("--mesh", meshPath, "The triangle mesh to check (OBJ)")->required();
   app.add_option("--uv-interpolation", rule, "The cage's UV rule (OpenSubdiv's FVAR_LINEAR_*)");
@@ -81,6 +116,9 @@ int main(int argc, char** argv) {
                  "of the diagonal is projected again from every domain (where the surface folds back, the seeds "
                  "may all lie on another sheet); default: never")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--far-level", farLevel,
+                 "Also measure mesh to limit against Far's uniform refinement at this level and the one before")
+      ->check(CLI::Range(2, 10));
   CLI11_PARSE(app, argc, argv);
   try {
     ControlMesh cage = readObjFile(cagePath);
@@ -100,12 +138,19 @@ int main(int argc, char** argv) {
     if (reprojectBeyond >= 0) options.everyDomainBeyond = reprojectBeyond * surface.diagonal();
     const testing::LimitDistanceReport report = testing::measureLimitDistance(surface, view, options);
     const UvCheck uvs = checkUvs(cage, surface, mesh);
+    std::string far;
+    if (farLevel > 0) {
+      char text[160];
+      std::snprintf(text, sizeof text, ", \"farLevel\": %d, \"meshToFar\": %.9g, \"meshToFarCoarser\": %.9g", farLevel,
+                    meshToFarRefinement(cage, mesh, farLevel), meshToFarRefinement(cage, mesh, farLevel - 1));
+      far = text;
+    }
     std::printf("{\"twoSided\": %.9g, \"relative\": %.9g, \"diagonal\": %.9g, \"triangles\": %zu, "
                 "\"uvCornersChecked\": %zu, \"uvWorst\": %.9g, \"meshToLimit\": %.9g, \"limitToMesh\": %.9g, "
-                "\"meshToLimitFace\": %d, \"limitToMeshFace\": %d, \"trianglesReprojected\": %zu}\n",
+                "\"meshToLimitFace\": %d, \"limitToMeshFace\": %d, \"trianglesReprojected\": %zu%s}\n",
                 report.twoSided(), report.twoSidedRelative(), report.diagonal, indices.size() / 3, uvs.checked, uvs.worst,
                 report.meshToLimit, report.limitToMesh, report.meshToLimitAt.face, report.limitToMeshAt.face,
-                report.trianglesReprojected);
+                report.trianglesReprojected, far.c_str());
   } catch (const std::exception& error) {
     std::fprintf(stderr, "tessera-limit-check: %s\n", error.what());
     return 1;
