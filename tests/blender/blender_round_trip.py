@@ -6,12 +6,7 @@ server's message, pixel accuracy follows the scene camera, an edit that moves ve
 server's topology-reuse path (its /metrics), a meshopt GLB is decoded by the add-on, and the edited
 cage and the result (decoded from meshopt) are written (Y-up, as sent) for tessera-limit-check.
 Arguments after "--": OUT_DIR SERVER_BINARY."""
-import os
-import subprocess
 import sys
-import tempfile
-import time
-import urllib.request
 from pathlib import Path
 
 import addon_utils
@@ -19,73 +14,15 @@ import bmesh
 import bpy
 from mathutils import Vector
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from blender_session import creased_cube, metric, start_server, write_obj  # noqa: E402
+
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
 
 
-def start_server():
-    """tessera-server on 127.0.0.1 with a scratch SQLite store."""
-    scratch = tempfile.mkdtemp()
-    ready = Path(scratch) / "ready"
-    process = subprocess.Popen([server_binary, "--listen", "127.0.0.1:0", "--store", f"sqlite:{scratch}/tessera.db",
-                                "--metrics-listen", "127.0.0.1:0", "--ready-file", str(ready), "--log-level", "warn"])
-    for _ in range(400):
-        if ready.exists() and "metrics=" in ready.read_text():
-            break
-        assert process.poll() is None, f"tessera-server exited with {process.returncode}"
-        time.sleep(0.05)
-    lines = ready.read_text().splitlines()
-    return process, next(line[5:] for line in lines if line.startswith("grpc=")), \
-        next(line[8:] for line in lines if line.startswith("metrics="))
-
-
-def metric(metrics_address, name):
-    """A counter from the server's /metrics."""
-    with urllib.request.urlopen(f"http://{metrics_address}/metrics", timeout=10) as response:
-        for line in response.read().decode().splitlines():
-            if line.startswith(name + " "):
-                return float(line.split()[1])
-    raise AssertionError(f"/metrics has no {name}")
-
-
-def creased_cube():
-    """A cube (Blender's own, with its UV unwrap) away from the origin, its top rim infinitely
-    sharp, one vertical edge semi-sharp, one bottom corner a semi-sharp corner."""
-    bpy.ops.mesh.primitive_cube_add(size=2.0, location=(1.0, 2.0, 0.5), rotation=(0.0, 0.0, 0.3))
-    cube = bpy.context.active_object
-    cube.name = "Cage"
-    mesh = bmesh.new()
-    mesh.from_mesh(cube.data)
-    edge_crease, vertex_crease = mesh.edges.layers.crease.verify(), mesh.verts.layers.crease.verify()
-    for edge in mesh.edges:
-        a, b = (v.co for v in edge.verts)
-        if a.z > 0 and b.z > 0:
-            edge[edge_crease] = 1.0
-        elif a.x > 0 and b.x > 0 and a.y > 0 and b.y > 0:
-            edge[edge_crease] = 0.6
-    next(v for v in mesh.verts if v.co.z < 0 and v.co.x < 0 and v.co.y < 0)[vertex_crease] = 0.8
-    mesh.to_mesh(cube.data)
-    modifier = cube.modifiers.new("Subdivision", "SUBSURF")
-    modifier.uv_smooth = UV_RULE[0]
-    return cube
-
-
-def write_obj(path: Path, positions, faces, uvs, corner_uvs, creases=(), corners=()):
-    with open(path, "w") as f:
-        for i in range(0, len(positions), 3):
-            f.write(f"v {positions[i]!r} {positions[i + 1]!r} {positions[i + 2]!r}\n")
-        for i in range(0, len(uvs), 2):
-            f.write(f"vt {uvs[i]!r} {uvs[i + 1]!r}\n")
-        for face, face_uvs in zip(faces, corner_uvs):
-            f.write("f " + " ".join(f"{v + 1}/{t + 1}" for v, t in zip(face, face_uvs)) + "\n")
-        for v0, v1, sharpness in creases:
-            f.write(f"t crease 2/1/0 {v0} {v1} {sharpness!r}\n")
-        for vertex, sharpness in corners:
-            f.write(f"t corner 1/1/0 {vertex} {sharpness!r}\n")
-
-
 def main():
-    process, address, metrics_address = start_server()
+    process, address, metrics_address = start_server(server_binary)
     try:
         bpy.ops.wm.read_factory_settings(use_empty=True)
         addon_utils.enable("tessera_subdiv", default_set=True)
@@ -93,7 +30,7 @@ def main():
         from tessera_subdiv.cage import read_cage, to_y_up
         preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
         preferences.server = address
-        cube = creased_cube()
+        cube = creased_cube(UV_RULE[0], vertical_crease=0.6)
         cage = read_cage(cube)
         assert len(cage.creases) == 5 and cage.corners and cage.uv_indices and cage.uv_interpolation == UV_RULE[1], cage
 

@@ -24,10 +24,10 @@ def start_server(server_binary: str):
         next(line[8:] for line in lines if line.startswith("metrics="))
 
 
-def creased_cube(uv_smooth: str = "PRESERVE_BOUNDARIES", corner: bool = True):
+def creased_cube(uv_smooth: str = "PRESERVE_BOUNDARIES", corner: bool = True, vertical_crease: float = 0.0):
     """Blender's cube (with its UV unwrap) away from the origin, its top rim infinitely sharp, one
-    bottom corner a semi-sharp corner (unless not `corner`), a Subdivision modifier with the UV
-    rule uv_smooth."""
+    bottom corner a semi-sharp corner (unless not `corner`), the vertical edge at +x +y creased by
+    `vertical_crease` (Blender's crease, 0: none), a Subdivision modifier with the UV rule uv_smooth."""
     import bmesh  # noqa: PLC0415 (Blender's modules: this file is imported outside Blender too)
     import bpy  # noqa: PLC0415
     bpy.ops.mesh.primitive_cube_add(size=2.0, location=(1.0, 2.0, 0.5), rotation=(0.0, 0.0, 0.3))
@@ -37,8 +37,11 @@ def creased_cube(uv_smooth: str = "PRESERVE_BOUNDARIES", corner: bool = True):
     mesh.from_mesh(cube.data)
     edge_crease, vertex_crease = mesh.edges.layers.crease.verify(), mesh.verts.layers.crease.verify()
     for edge in mesh.edges:
-        if all(v.co.z > 0 for v in edge.verts):
+        a, b = (v.co for v in edge.verts)
+        if a.z > 0 and b.z > 0:
             edge[edge_crease] = 1.0
+        elif vertical_crease and a.x > 0 and b.x > 0 and a.y > 0 and b.y > 0:
+            edge[edge_crease] = vertical_crease
     if corner:
         next(v for v in mesh.verts if v.co.z < 0 and v.co.x < 0 and v.co.y < 0)[vertex_crease] = 0.8
     mesh.to_mesh(cube.data)

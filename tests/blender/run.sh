@@ -6,18 +6,9 @@
 # Usage: run.sh SOURCE_DIR BUILD_DIR SERVER_BINARY LIMIT_CHECK_BINARY
 set -euo pipefail
 source_dir="$1" build_dir="$2" server="$3" check="$4"
-if ! command -v blender > /dev/null; then
-  echo "blender is not installed (tools/install-deps.sh installs Debian's)"; exit 1
-fi
+source "$source_dir/tests/blender/blender_env.sh"
 work="$build_dir/blender-addon"
-"$source_dir/tests/python/install-client.sh" "$source_dir" "$work"
-mkdir -p "$work/scripts/addons" "$work/out"
-ln -sfn "$source_dir/client/blender/tessera_subdiv" "$work/scripts/addons/tessera_subdiv"
-site=$("$work/venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
-export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$work}"
-BLENDER_USER_SCRIPTS="$work/scripts" PYTHONPATH="$site" \
-  blender -b --factory-startup --python-use-system-env --python-exit-code 1 \
-    --python "$source_dir/tests/blender/blender_round_trip.py" -- "$work/out" "$server"
+blender_run "$source_dir" "$work" blender_round_trip.py "$server"
 # Within the tolerance asked of OpenSubdiv's limit surface of the cage, UVs as OpenSubdiv's.
 report=$("$check" --cage "$work/out/cage.obj" --mesh "$work/out/result.obj" \
   --uv-interpolation "$(cat "$work/out/uv-interpolation")")
