@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "client/remote_progress.h"
+#include "client/remote_staged_output.h"
 #include "core/request/camera_text.h"
 #include "tessera/v1/render.grpc.pb.h"
 
@@ -145,23 +146,22 @@ struct Failure {
   std::string message;
 };
 
-// Writes one frame's chunks to FILE.partial, then checks size and checksum and renames it.
+// Writes one frame's chunks to FILE.partial (StagedOutput), then checks size and checksum and renames it.
 class FrameFile {
  public:
   FrameFile(std::string file, v1::FrameHeader header)
       : file_(std::move(file)),
-        partial_(file_ + ".partial"),
+        staged_(file_),
         header_(std::move(header)),
-        out_(partial_, std::ios::binary | std::ios::trunc),
+        out_(staged_.path(), std::ios::binary | std::ios::trunc),
         digest_(EVP_MD_CTX_new(), &EVP_MD_CTX_free) {
     EVP_DigestInit_ex(digest_.get(), EVP_sha256(), nullptr);
-    if (!out_) throw Failure{kExitIo, fmt::format("cannot write {}", partial_)};
+    if (!out_) throw Failure{kExitIo, fmt::format("cannot write {}", staged_.path())};
   }
   ~FrameFile() {
     if (done_) return;
-    std::error_code ignored;
     out_.close();
-    std::filesystem::remove(partial_, ignored);
+    staged_.discard();
   }
 
   bool complete() const { return written_ == header_.image_bytes(); }
@@ -185,20 +185,19 @@ class FrameFile {
     unsigned int length = 0;
     EVP_DigestFinal_ex(digest_.get(), hash, &length);
     out_.close();
-    if (!out_) throw Failure{kExitIo, fmt::format("cannot write {}", partial_)};
+    if (!out_) throw Failure{kExitIo, fmt::format("cannot write {}", staged_.path())};
     if (toHex(hash, length) != header_.image_sha256()) {
       throw Failure{kExitRemote,
                     fmt::format("{}: the image's SHA-256 does not match the header", file_)};
     }
-    std::error_code error;
-    std::filesystem::rename(partial_, file_, error);
-    if (error) throw Failure{kExitIo, fmt::format("cannot write {}: {}", file_, error.message())};
+    if (const std::error_code error = staged_.publish()) throw Failure{kExitIo, fmt::format("cannot write {}: {}", file_, error.message())};
     done_ = true;
     return {file_, header_};
   }
 
  private:
-  std::string file_, partial_;
+  std::string file_;
+  StagedOutput staged_;
   v1::FrameHeader header_;
   std::ofstream out_;
   std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> digest_;

@@ -10,6 +10,7 @@
 
 #include "client/commands.h"
 #include "client/remote_progress.h"
+#include "client/remote_staged_output.h"
 #include "core/base/error.h"
 #include "core/output/glb_writer.h"
 #include "core/request/camera_text.h"
@@ -176,10 +177,10 @@ int runRemoteTessellate(const RemoteEndpoint& endpoint, const RemoteTessellateAr
     std::cerr << "tessera tessellate: " << e.what() << "\n";
     return kExitUsage;
   }
-  const std::string partial = args.output + ".partial";
-  std::ofstream out(partial, std::ios::binary | std::ios::trunc);
+  const StagedOutput staged(args.output);
+  std::ofstream out(staged.path(), std::ios::binary | std::ios::trunc);
   if (!out) {
-    std::cerr << fmt::format("tessera: cannot write {}\n", partial);
+    std::cerr << fmt::format("tessera: cannot write {}\n", staged.path());
     return kExitIo;
   }
   auto stub = v1::TessellationService::NewStub(makeChannel(endpoint));
@@ -191,20 +192,18 @@ int runRemoteTessellate(const RemoteEndpoint& endpoint, const RemoteTessellateAr
   Received received = receive(*reader, out);
   grpc::Status status = reader->Finish();
   out.close();
-  std::error_code ignored;
   if (!status.ok()) {
-    std::filesystem::remove(partial, ignored);
+    staged.discard();
     return reportRpcError("tessellate " + args.meshName, status, &context);
   }
   if (!received.summary || !received.problem.empty() || !out) {
-    std::filesystem::remove(partial, ignored);
+    staged.discard();
     std::cerr << fmt::format("tessera: tessellate {}: incomplete result: {}\n", args.meshName,
                              received.problem.empty() ? "no summary" : received.problem);
     return kExitRemote;
   }
-  std::filesystem::rename(partial, args.output, ignored);
-  if (ignored) {
-    std::cerr << fmt::format("tessera: cannot write {}: {}\n", args.output, ignored.message());
+  if (const std::error_code error = staged.publish()) {
+    std::cerr << fmt::format("tessera: cannot write {}: {}\n", args.output, error.message());
     return kExitIo;
   }
   printSummary(*received.summary, args.output);

@@ -1,14 +1,20 @@
 // The `tessera` CLI's remote commands against a real server: what they print, the files they
 // write and their exit codes (client/commands.h). Skipped when the CLI was not built.
 #include <gtest/gtest.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include <fmt/format.h>
@@ -221,6 +227,41 @@ TEST_F(CliTest, TessellateWritesTheStreamedFileAfterCheckingIt) {
   std::string written = readFile(out);
   ASSERT_EQ(written.size(), 200'003u);  // the pattern engine's output (server/tessellation/test_engines.h)
   EXPECT_EQ(static_cast<uint8_t>(written[1000]), static_cast<uint8_t>((1000 * 131 + (1000 >> 8)) & 0xff));
+}
+
+// A result asked into a file that is not a regular one (a FIFO here; /dev/null alike) is written
+// through it, not staged beside it and renamed over it: as root that rename replaced /dev/null
+// with a regular file for the whole machine.
+TEST_F(CliTest, TessellateIntoAFifoWritesThroughItAndLeavesItAFifo) {
+  startServer({"--test-engine", "pattern"});
+  ASSERT_EQ(tessera("upload " + modelPath("bigguy.obj").string() + " --name bigguy").code, kExitOk);
+  const std::filesystem::path fifo = dir_.path() / "out.fifo";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // Held open for reading and writing: the command's open finds a reader, and reads never end.
+  const int fd = open(fifo.c_str(), O_RDWR | O_NONBLOCK);
+  ASSERT_GE(fd, 0);
+  std::string received;
+  std::atomic<bool> finished{false};
+  std::thread reader([&] {
+    char buffer[65536];
+    for (;;) {
+      pollfd ready{fd, POLLIN, 0};
+      if (poll(&ready, 1, 200) > 0) {
+        const ssize_t n = read(fd, buffer, sizeof buffer);
+        if (n > 0) received.append(buffer, size_t(n));
+      } else if (finished) {
+        return;  // nothing for 200 ms after the command ended
+      }
+    }
+  });
+  const CliRun run = tessera("tessellate meshes/bigguy --tolerance 0.001 --relative -o " + fifo.string());
+  finished = true;
+  reader.join();
+  close(fd);
+  EXPECT_EQ(run.code, kExitOk) << run.output;
+  EXPECT_EQ(received.size(), 200'003u);  // the pattern engine's output
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  EXPECT_FALSE(std::filesystem::exists(fifo.string() + ".partial"));
 }
 
 TEST_F(CliTest, TheTokenComesFromTheEnvironment) {
