@@ -21,7 +21,7 @@
 #include "core/surface/surface_tree.h"
 #include "core/uniform/domain_keys.h"
 #include "reference/bfr_reference.h"
-#include "reference/far_reference.h"
+#include "reference/far_distance.h"
 #include "reference/limit_distance.h"
 #include "reference/limit_projection.h"
 #include "reference/models.h"
@@ -136,32 +136,15 @@ TEST(AdaptiveTessellation, SemiSharpCornersAtExtraordinaryVerticesStayWithinTole
       "t crease 2/1/0 1 3 10\nt crease 2/1/0 3 7 10\nt crease 2/1/0 7 5 10\nt crease 2/1/0 5 1 10\n"
       "t corner 1/1/0 0 6.4\nt corner 1/1/0 6 2.5\n",
       "semi-sharp corners");
-  const testing::FarRefinement far = testing::FarRefinement::uniform(mesh, 8);
-  const auto& last = far.refiner->GetLevel(8);
-  std::vector<Vec3> points(size_t(last.GetNumVertices()));
-  for (int v = 0; v < last.GetNumVertices(); ++v) points[size_t(v)] = Vec3(far.position(8, v));
-  std::vector<uint32_t> quads;
-  for (int f = 0; f < last.GetNumFaces(); ++f) {
-    const auto c = last.GetFaceVertices(f);
-    for (int k : {0, 1, 2, 0, 2, 3}) quads.push_back(uint32_t(c[k]));
-  }
-  const testing::TriangleBvh refined(points, quads);
   for (double relative : {1e-2, 1e-3}) {
     PreprocessingOptions preprocessing;
     preprocessing.finestRelativeTolerance = relative;
     const PatchSet set = buildPatchSet(mesh, preprocessing);
     const TessellationResult result = tessellateAt(mesh, set, relative);
-    const TriangleMesh& out = result.mesh;
-    double worst = 0;
-    for (size_t t = 0; t < out.indices.size(); t += 3) {
-      const Vec3d a(out.positions[out.indices[t]]), b(out.positions[out.indices[t + 1]]), c(out.positions[out.indices[t + 2]]);
-      for (const Vec3d& p : {a, b, c, (a + b + c) * (1.0 / 3), (a + b) * 0.5, (b + c) * 0.5, (a + c) * 0.5}) {
-        worst = std::max(worst, refined.nearest(p).distance);
-      }
-    }
+    const double worst = testing::distanceToFarRefinement(mesh, 8, testing::viewOf(result.mesh));
     EXPECT_LE(worst, result.summary.tolerance * (1 + 1e-3)) << relative;
     std::printf("semi-sharp corners eps %.0e: %zu triangles, %.2f of eps from Far's level 8\n", relative,
-                out.triangleCount(), worst / result.summary.tolerance);
+                result.mesh.triangleCount(), worst / result.summary.tolerance);
   }
 }
 

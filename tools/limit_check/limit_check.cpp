@@ -23,13 +23,11 @@
 
 #include "core/mesh/obj_reader.h"
 #include "core/mesh/subdivision_rules.h"
-#include "core/math/bicubic.h"
 #include "reference/bfr_reference.h"
-#include "reference/far_reference.h"
+#include "reference/far_distance.h"
 #include "reference/limit_distance.h"
 #include "reference/limit_projection.h"
 #include "reference/limit_surface.h"
-#include "reference/triangle_bvh.h"
 
 using namespace tessera;
 
@@ -73,34 +71,6 @@ UvCheck checkUvs(const ControlMesh& cage, const testing::LimitSurface& surface, 
   return check;
 }
 
-// The largest distance from the mesh's vertices and seven points of each triangle (its centroid,
-// edge midpoints and the points halfway between them and the corners) to the triangles of Far's
-// uniform refinement of `cage` at `level`.
-double meshToFarRefinement(const ControlMesh& cage, const ControlMesh& mesh, int level) {
-  const testing::FarRefinement far = testing::FarRefinement::uniform(cage, level);
-  const auto& last = far.refiner->GetLevel(level);
-  std::vector<Vec3> positions(size_t(last.GetNumVertices()));
-  for (int v = 0; v < last.GetNumVertices(); ++v) positions[size_t(v)] = Vec3(far.position(level, v));
-  std::vector<uint32_t> indices;
-  for (int f = 0; f < last.GetNumFaces(); ++f) {
-    const auto corners = last.GetFaceVertices(f);
-    for (int k = 1; k + 1 < corners.size(); ++k) {
-      for (int c : {0, k, k + 1}) indices.push_back(uint32_t(corners[c]));
-    }
-  }
-  const testing::TriangleBvh bvh(positions, indices);
-  double worst = 0;
-  for (const Vec3& p : mesh.positions) worst = std::max(worst, bvh.nearest(Vec3d(p)).distance);
-  constexpr double kWeights[7][3] = {{1 / 3., 1 / 3., 1 / 3.}, {.5, .5, 0}, {0, .5, .5}, {.5, 0, .5},
-                                     {2 / 3., 1 / 6., 1 / 6.}, {1 / 6., 2 / 3., 1 / 6.}, {1 / 6., 1 / 6., 2 / 3.}};
-  for (size_t t = 0; t + 2 < mesh.faceVertices.size(); t += 3) {
-    const Vec3d a(mesh.positions[size_t(mesh.faceVertices[t])]), b(mesh.positions[size_t(mesh.faceVertices[t + 1])]),
-        c(mesh.positions[size_t(mesh.faceVertices[t + 2])]);
-    for (const auto& w : kWeights) worst = std::max(worst, bvh.nearest(a * w[0] + b * w[1] + c * w[2]).distance);
-  }
-  return worst;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -142,7 +112,8 @@ int main(int argc, char** argv) {
     if (farLevel > 0) {
       char text[160];
       std::snprintf(text, sizeof text, ", \"farLevel\": %d, \"meshToFar\": %.9g, \"meshToFarCoarser\": %.9g", farLevel,
-                    meshToFarRefinement(cage, mesh, farLevel), meshToFarRefinement(cage, mesh, farLevel - 1));
+                    testing::distanceToFarRefinement(cage, farLevel, view),
+                    testing::distanceToFarRefinement(cage, farLevel - 1, view));
       far = text;
     }
     std::printf("{\"twoSided\": %.9g, \"relative\": %.9g, \"diagonal\": %.9g, \"triangles\": %zu, "
