@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/base/error.h"
@@ -262,9 +263,9 @@ NodeFit TreeBuilder::fitChildren(const NodeFit children[4]) const {
   for (int q = 0; q < 4; ++q) quadrants[q] = children[q].g;
   NodeFit fit;
   fit.g = coarsenNets(quadrants);
-  for (int q = 0; q < 4; ++q) {
-    fit.r = std::max(fit.r, children[q].r + netDistance(quadrants[q], quadrantNet(fit.g, q & 1, q >> 1)));
-  }
+  BezierNet fitted[4];
+  quadrantNets(fit.g, std::array<BezierNet*, 4>{&fitted[0], &fitted[1], &fitted[2], &fitted[3]}.data());
+  for (int q = 0; q < 4; ++q) fit.r = std::max(fit.r, children[q].r + netDistance(quadrants[q], fitted[q]));
   for (int c = 0; c < 4; ++c) fit.corners[c] = children[quadrantOfCorner(c)].corners[c];
   return fit;
 }
