@@ -42,6 +42,12 @@ template <typename T>
 TESSERA_HD T length(const Vec3T<T>& v) {
   return std::sqrt(dot(v, v));
 }
+// ‖v‖²: a maximum of lengths is the square root of the maximum of these, bit for bit (sqrt is
+// correctly rounded, so monotone), with one square root instead of one per length.
+template <typename T>
+TESSERA_HD T lengthSquared(const Vec3T<T>& v) {
+  return dot(v, v);
+}
 
 using Vec3 = Vec3T<float>;
 using Vec3d = Vec3T<double>;

@@ -15,45 +15,46 @@ namespace tessera {
 void pieceAgainstDiagonal(const LazyNet* net, double r, const LeafOwn& own, double x, double y, double s,
                           const DiagonalMap& map, double& pair, std::array<double, 4>& bows, double abortAbove) {
   if (pair > abortAbove) return;
+  auto quarters = [&] {
+    for (int q = 0; q < 4; ++q) {
+      const LazyNet quadrant(net, q);
+      pieceAgainstDiagonal(net ? &quadrant : nullptr, r, own, x + (q & 1) * s / 2, y + (q >> 1) * s / 2, s / 2, map, pair, bows,
+                           abortAbove);
+    }
+  };
+  if (map.spans(x, y, s)) return quarters();
   const double cx[4] = {x, x + s, x + s, x}, cy[4] = {y, y, y + s, y + s};
   Vec3d leafB[4];
   for (int k = 0; k < 4; ++k) leafB[k] = own.bilinear(cx[k], cy[k]);
-  const bool spans = map.spans(x, y, s);
   const int i = map.column(x), j = map.row(y);
-  const int met = spans ? 0 : map.trianglesMet(i, j, x, y, s);
+  const int met = map.trianglesMet(i, j, x, y, s);
   // The cheap bounds, each triangle's affine function extended over the whole square.
-  bool open = spans;
+  bool open = false;
   Vec3d target[2][4];
   double cheap[2] = {0, 0};
-  for (int h = 0; h < 2 && !spans; ++h) {
+  for (int h = 0; h < 2; ++h) {
     if (!(met >> h & 1)) continue;
-    double gap = 0;
+    double gap2 = 0;
     for (int k = 0; k < 4; ++k) {
       target[h][k] = map.pairOverTriangle(i, j, h, cx[k], cy[k]);
-      gap = std::max(gap, length(target[h][k] - leafB[k]));
+      gap2 = std::max(gap2, lengthSquared(target[h][k] - leafB[k]));
     }
-    cheap[h] = own.pair + gap;
+    cheap[h] = own.pair + std::sqrt(gap2);
     open = open || cheap[h] > pair;
   }
   const bool touches[4] = {y == 0, x + s == 1, y + s == 1, x == 0};
   Vec3d chordEnds[4][2];
   double cheapBow[4] = {0, 0, 0, 0};
-  for (int side = 0; side < 4 && !spans; ++side) {
+  for (int side = 0; side < 4; ++side) {
     if (!touches[side]) continue;
     int from, to;
     sideCorners(side, from, to);
     chordEnds[side][0] = map.pairOnBoundary(cx[from], cy[from]);
     chordEnds[side][1] = map.pairOnBoundary(cx[to], cy[to]);
-    cheapBow[side] = own.bows[side] + std::max(length(chordEnds[side][0] - leafB[from]), length(chordEnds[side][1] - leafB[to]));
+    cheapBow[side] = own.bows[side] + std::sqrt(std::max(lengthSquared(chordEnds[side][0] - leafB[from]),
+                                                         lengthSquared(chordEnds[side][1] - leafB[to])));
   }
-  if (spans || (met == 3 && open && map.relativeSize(i, j, s) > 0.125)) {
-    for (int q = 0; q < 4; ++q) {
-      const LazyNet quadrant{net, q, false, {}};
-      pieceAgainstDiagonal(net ? &quadrant : nullptr, r, own, x + (q & 1) * s / 2, y + (q >> 1) * s / 2, s / 2, map, pair, bows,
-                           abortAbove);
-    }
-    return;
-  }
+  if (met == 3 && open && map.relativeSize(i, j, s) > 0.125) return quarters();
   for (int side = 0; side < 4; ++side) {
     if (!touches[side] || cheapBow[side] <= bows[side]) continue;
     const double exact = net ? r + sideChordDistance(net->get(), side, chordEnds[side][0], chordEnds[side][1]) : INFINITY;

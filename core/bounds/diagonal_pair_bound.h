@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "core/bounds/diagonal_reparameterization.h"
 #include "core/math/bezier_net.h"
@@ -19,16 +20,21 @@ struct LeafOwn {
   Vec3d bilinear(double u, double v) const { return bilinearAt(corners, (u - x) / s, (v - y) / s); }
 };
 
-// A square's Bézier net, computed from its parent's only when asked for.
-struct LazyNet {
-  const LazyNet* parent;
-  int quadrant;
-  mutable bool ready;
-  mutable BezierNet net;
+// A square's Bézier net, computed from its parent's only when asked for (and not even zeroed
+// before: most squares' cheap bounds settle them without it).
+class LazyNet {
+ public:
+  explicit LazyNet(const BezierNet& net) : net_(net) {}
+  LazyNet(const LazyNet* parent, int quadrant) : parent_(parent), quadrant_(quadrant) {}
   const BezierNet& get() const {
-    if (!ready) net = quadrantNet(parent->get(), quadrant & 1, quadrant >> 1), ready = true;
-    return net;
+    if (!net_) net_.emplace(quadrantNet(parent_->get(), quadrant_ & 1, quadrant_ >> 1));
+    return *net_;
   }
+
+ private:
+  const LazyNet* parent_ = nullptr;
+  int quadrant_ = 0;
+  mutable std::optional<BezierNet> net_;
 };
 
 // Raises `pair` and `bows` (the ancestor's maxima) to bound the square [x, x + s]² of the leaf

@@ -12,6 +12,7 @@
 #include <array>
 
 #include "core/base/vec3.h"
+#include "core/math/bezier_net.h"
 
 namespace tessera {
 
@@ -84,5 +85,68 @@ class DiagonalMap {
   GridLines xs_, ys_;
   std::array<double, kPoints * kPoints> u_, v_;  // ρ at the grid points
 };
+
+// The per-square queries, inline: the §3b walk asks them ~10⁵ times a plan.
+
+inline int DiagonalMap::cellOf(const GridLines& lines, double x) {
+  int i = 0;
+  while (i + 1 < kCells && x >= lines[i + 1]) ++i;
+  return i;
+}
+
+inline bool DiagonalMap::spans(double x, double y, double s) const {
+  const int i = column(x), j = row(y);
+  return x + s > xs_[i + 1] || y + s > ys_[j + 1];
+}
+
+inline bool DiagonalMap::split(int i, int j) const { return diagonal_ == 0 ? i == j : i + j + 1 == kCells; }
+
+// (x, y) in cell (i, j)'s own unit square.
+inline void DiagonalMap::local(int i, int j, double x, double y, double& a, double& b) const {
+  a = (x - xs_[i]) / (xs_[i + 1] - xs_[i]), b = (y - ys_[j]) / (ys_[j + 1] - ys_[j]);
+}
+
+inline int DiagonalMap::trianglesMet(int i, int j, double x, double y, double s) const {
+  if (!split(i, j)) return 1;
+  double a, b;
+  local(i, j, x, y, a, b);
+  const double ta = s / (xs_[i + 1] - xs_[i]), tb = s / (ys_[j + 1] - ys_[j]);
+  if (diagonal_ == 0) return (a + ta > b ? 1 : 0) | (b + tb > a ? 2 : 0);
+  return (a + b < 1 ? 1 : 0) | (a + ta + b + tb > 1 ? 2 : 0);
+}
+
+// The pair's half that half h of cell (i, j) maps into: the cells off the diagonal lie wholly in
+// one half, those on it are split by it.
+inline int DiagonalMap::imageHalf(int i, int j, int h) const {
+  if (diagonal_ == 0) return i > j ? 0 : i < j ? 1 : h;
+  return i + j + 1 < kCells ? 0 : i + j + 1 > kCells ? 1 : h;
+}
+
+inline void DiagonalMap::imageOf(int i, int j, int h, double x, double y, double& u, double& v) const {
+  const int n = i + kPoints * j;
+  const double cu[4] = {u_[n], u_[n + 1], u_[n + 1 + kPoints], u_[n + kPoints]};
+  const double cv[4] = {v_[n], v_[n + 1], v_[n + 1 + kPoints], v_[n + kPoints]};
+  double a, b;
+  local(i, j, x, y, a, b);
+  if (!split(i, j)) {
+    u = bilinearAt(cu, a, b), v = bilinearAt(cv, a, b);
+    return;
+  }
+  u = pairAt(cu, diagonal_, h, a, b), v = pairAt(cv, diagonal_, h, a, b);
+}
+
+inline Vec3d DiagonalMap::pairOverTriangle(int i, int j, int h, double x, double y) const {
+  double u, v;
+  imageOf(i, j, h, x, y, u, v);
+  return pairAt(corners_.data(), diagonal_, imageHalf(i, j, h), u, v);
+}
+
+inline Vec3d DiagonalMap::pairOnBoundary(double x, double y) const {
+  const int i = column(x), j = row(y);
+  double a, b, u, v;
+  local(i, j, x, y, a, b);
+  imageOf(i, j, pairHalf(diagonal_, a, b), x, y, u, v);
+  return pairAt(corners_.data(), diagonal_, pairHalf(diagonal_, u, v), u, v);
+}
 
 }  // namespace tessera

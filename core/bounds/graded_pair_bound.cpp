@@ -101,7 +101,7 @@ std::optional<PairBounds> gradedPairBounds(const BezierNet& net, double below, d
   std::copy(bows.begin(), bows.end(), own.bows);
   PairBounds out;
   out.pair = map.gridGap();  // starts the maximum, so cheap bounds skip more
-  const LazyNet whole{nullptr, 0, true, net};
+  const LazyNet whole(net);
   pieceAgainstDiagonal(&whole, 0, own, 0, 0, 1, map, out.pair, out.bows, abortAbove);
   if (out.pair > abortAbove) return std::nullopt;
   out.diagonal = uint8_t(1 + map.diagonal());

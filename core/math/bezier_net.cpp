@@ -100,13 +100,13 @@ double splitNetDistance(const BezierNet& a, const BezierNet& b) {
 double sideChordDistance(const BezierNet& net, int side, const Vec3d& from, const Vec3d& to) {
   Vec3d difference[4];
   for (int i = 0; i < 4; ++i) difference[i] = net[kSideIndex[side][i]] - (from * (1 - i / 3.0) + to * (i / 3.0));
-  double d = 0;
+  double d2 = 0;
   for (int half = 0; half < 2; ++half) {
     Vec3d part[4];
     halveCurve(difference, 1, half == 1, part, 1);
-    for (const Vec3d& p : part) d = std::max(d, length(p));
+    for (const Vec3d& p : part) d2 = std::max(d2, lengthSquared(p));
   }
-  return d;
+  return std::sqrt(d2);
 }
 
 // Nets as matrices N[row][col] (row along v): the quadrant restriction is H_qv N H_quᵀ, so the

@@ -43,18 +43,18 @@ inline double interpolationBound(const Curvature& m, double w, double h) {
 // norms bound them everywhere on the square.
 inline Curvature netCurvature(const Vec3d* b) {
   auto at = [b](int row, int col) { return b[4 * row + col]; };
-  double uu = 0, vv = 0, uv = 0;
+  double uu = 0, vv = 0, uv = 0;  // squared norms
   for (int i = 0; i < 4; ++i) {
     for (int j = 0; j < 2; ++j) {
-      uu = std::max(uu, length(at(i, j) - at(i, j + 1) * 2.0 + at(i, j + 2)));
-      vv = std::max(vv, length(at(j, i) - at(j + 1, i) * 2.0 + at(j + 2, i)));
+      uu = std::max(uu, lengthSquared(at(i, j) - at(i, j + 1) * 2.0 + at(i, j + 2)));
+      vv = std::max(vv, lengthSquared(at(j, i) - at(j + 1, i) * 2.0 + at(j + 2, i)));
     }
   }
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j)
-      uv = std::max(uv, length(at(i, j) - at(i, j + 1) - at(i + 1, j) + at(i + 1, j + 1)));
+      uv = std::max(uv, lengthSquared(at(i, j) - at(i, j + 1) - at(i + 1, j) + at(i + 1, j + 1)));
   }
-  return {6 * uu, 9 * uv, 6 * vv};
+  return {6 * std::sqrt(uu), 9 * std::sqrt(uv), 6 * std::sqrt(vv)};
 }
 
 // De Casteljau at t = 1/2 of one cubic: the half toward t = 0 (`upper` false) or t = 1.
@@ -132,9 +132,9 @@ inline BezierNet orientNet(const Vec3d* piece, const Orientation& o) {
 // Largest ‖a_ij − b_ij‖: by the convex hull property, a bound of ‖A − B‖ over the square for
 // the two bicubics with these nets.
 inline double netDistance(const BezierNet& a, const BezierNet& b) {
-  double d = 0;
-  for (int k = 0; k < 16; ++k) d = std::max(d, length(a[k] - b[k]));
-  return d;
+  double d2 = 0;
+  for (int k = 0; k < 16; ++k) d2 = std::max(d2, lengthSquared(a[k] - b[k]));
+  return std::sqrt(d2);
 }
 
 // Corners of a square: 0 = (0,0), 1 = (1,0), 2 = (1,1), 3 = (0,1); their net indices.

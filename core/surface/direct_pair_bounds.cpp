@@ -103,19 +103,19 @@ void DirectGather::leaf(uint32_t index, int depth, uint64_t ix, uint64_t iy) {
   const bool touches[4] = {y0 == 0, x0 + scale == 1, y0 + scale == 1, x0 == 0};
   auto against = [&](double u0, double u1, double v0, double v1, double& pair, std::array<double, 4>& bows) {
     Vec3d leafCorners[4];
-    double gap[4];
+    double gap2[4];  // squared: one square root for each maximum taken
     const double cx[4] = {u0, u1, u1, u0}, cy[4] = {v0, v0, v1, v1};
     for (int k = 0; k < 4; ++k) {
       leafCorners[k] = bilinearAt(c_.data(), cx[k], cy[k]);
-      gap[k] = length(own[k] - leafCorners[k]);
+      gap2[k] = lengthSquared(own[k] - leafCorners[k]);
     }
-    const double cheap = ownPair + *std::max_element(gap, gap + 4);
+    const double cheap = ownPair + std::sqrt(*std::max_element(gap2, gap2 + 4));
     if (cheap > pair) pair = std::max(pair, std::min(cheap, r + splitNetDistance(netOf(), bilinearNet(leafCorners))));
     for (int side = 0; side < 4; ++side) {
       if (!touches[side]) continue;
       int from, to;
       sideCorners(side, from, to);
-      const double cheapBow = ownBow[side] + std::max(gap[from], gap[to]);
+      const double cheapBow = ownBow[side] + std::sqrt(std::max(gap2[from], gap2[to]));
       if (cheapBow <= bows[side]) continue;
       const double bow = r + sideChordDistance(netOf(), side, leafCorners[from], leafCorners[to]);
       bows[side] = std::max(bows[side], std::min(cheapBow, bow));

@@ -194,7 +194,7 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
   const std::array<double, 4>& b = kept_.ownBows[index];
   const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
                     x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
-  const LazyNet whole{nullptr, 0, true, net};
+  const LazyNet whole(net);
   pieceAgainstDiagonal(&whole, r, own, x0, y0, scale, map, pair, bows, abortAbove);
 }
 
