@@ -38,6 +38,44 @@ TEST(DepthBound, CheckedInTablesRegenerate) {
   }
 }
 
+// Rings with sharp spokes or a corner EV take the creased tables, by their kind's canonical
+// rotation: every rotation of a kind finds the canonical rotation's coefficients, computed again
+// here, and those are the rotation's own computed coefficients to rounding (one ring, its sectors
+// numbered from another spoke): 10⁻¹² of c_m, or 10⁻¹⁵ of c_0 where c_m has decayed to the
+// rounding of the model's sums (each c_m carries a headroom of 10⁻⁶ of itself for that).
+TEST(DepthBound, CreasedTablesRegenerateForEveryRotation) {
+  struct Kind {
+    cer::RingShape shape;
+    std::vector<uint8_t> spokes;
+    bool cornerEv;
+  };
+  const Kind kinds[] = {
+      {{5, false}, {0, 1, 0, 0, 1}, false},        // a crease through an EV of valence 5
+      {{6, false}, {0, 0, 0, 1, 0, 0}, false},     // a dart
+      {{4, false}, {1, 1, 0, 1}, false},           // three sharp spokes: a corner
+      {{3, false}, {0, 0, 0}, true},               // a corner-tagged smooth EV
+      {{3, true}, {1, 0, 1, 1}, false},            // an open ring with an inner sharp spoke
+      {{8, false}, {1, 0, 0, 1, 0, 0, 0, 0}, false},
+  };
+  for (const Kind& kind : kinds) {
+    const int spokes = kind.shape.spokeCount();
+    for (int r = 0; r < (kind.shape.open ? 1 : spokes); ++r) {
+      std::vector<uint8_t> rotated(spokes);
+      for (int s = 0; s < spokes; ++s) rotated[s] = kind.spokes[(s + r) % spokes];
+      const RingRules rules = makeRingRules(kind.shape, rotated.data(), kind.cornerEv);
+      SCOPED_TRACE(ringKindKey(ringKindOf(rules)));
+      const std::vector<double>* table = depthCoefficients(rules);
+      ASSERT_NE(table, nullptr);
+      const std::vector<double> canonical = computeDepthBound(canonicalRotation(ringKindOf(rules)));
+      const std::vector<double> own = computeDepthBound(ringKindOf(rules));
+      for (size_t m = 0; m < canonical.size(); ++m) {
+        EXPECT_DOUBLE_EQ((*table)[m], canonical[m]) << m;
+        EXPECT_NEAR(own[m], canonical[m], 1e-12 * canonical[m] + 1e-15 * canonical[0]) << m;
+      }
+    }
+  }
+}
+
 TEST(DepthBound, MatchesTheRegularCaseAndDecays) {
   // Valence 4 is a B-spline: only the tail term of the bound remains.
   auto regular = computeDepthBound({{4, false}, {}, false}, 4);
@@ -133,6 +171,33 @@ TEST(DepthBound, BoundsTheErrorOnEveryRingOfTheModels) {
     std::printf("%s: %d rings, worst measured/bound %.3f\n", testing::baseName(path).c_str(),
                 check.rings, check.worstRatio);
   }
+}
+
+// The creased tables against OpenSubdiv on real rings: the shapes whose infinitely sharp creases
+// run through extraordinary vertices (cubes, creases meeting at EVs, a crease ending in a dart).
+TEST(DepthBound, BoundsTheErrorOnTheCreasedRingsOfTheShapes) {
+  int creased = 0;
+  for (const char* name : {"catmark_cubes_infsharp", "catmark_inf_crease0", "catmark_inf_crease1"}) {
+    SCOPED_TRACE(name);
+    ControlMesh mesh = readObjFile(testing::modelsDir() + "/opensubdiv-shapes/" + name + ".obj");
+    PatchSet set = buildPatchSet(mesh);
+    testing::BfrReference reference(mesh);
+    BoundCheck check;
+    for (size_t r = 0; r < set.rings.size(); ++r) {
+      const RingRules rules = set.rings.rules(r);
+      bool sharp = rules.evRule == EvRule::kCorner;
+      for (int s = 0; s < rules.shape.spokeCount(); ++s) sharp |= !rules.shape.open && rules.spokeSharp(s);
+      if (!sharp) continue;
+      ++creased;
+      const int depth = std::min(4, 10 - set.rings.levels[r]);
+      checkRing(rules, set.rings.ringPoints(r), Vec3d(set.rings.centers[r]),
+                set.rings.sectorDomains.data() + set.rings.sectorOffsets[r],
+                set.rings.sectorOwned.data() + set.rings.sectorOffsets[r], reference, depth, check);
+    }
+    EXPECT_LE(check.worstRatio, 1.0);
+    std::printf("%s: %d creased rings, worst measured/bound %.3f\n", name, check.rings, check.worstRatio);
+  }
+  EXPECT_GT(creased, 10);
 }
 
 }  // namespace

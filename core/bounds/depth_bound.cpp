@@ -97,6 +97,34 @@ std::vector<double> approximationBound(const RingRules& rules, bool oneSector, c
   return bound;
 }
 
+RingKind ringKindOf(const RingRules& rules) {
+  RingKind kind{rules.shape, {}, rules.evRule == EvRule::kCorner};
+  for (int s = 0; s < rules.shape.spokeCount(); ++s) kind.sharpSpokes.push_back(rules.spokeSharp(s) ? 1 : 0);
+  return kind;
+}
+
+RingKind canonicalRotation(const RingKind& kind) {
+  RingKind best = kind;
+  best.sharpSpokes.resize(kind.shape.spokeCount(), 0);
+  if (kind.shape.open) return best;
+  const std::vector<uint8_t> spokes = best.sharpSpokes;
+  const int n = int(spokes.size());
+  for (int r = 1; r < n; ++r) {
+    std::vector<uint8_t> rotated(spokes.size());
+    for (int s = 0; s < n; ++s) rotated[s] = spokes[(s + r) % n];
+    if (rotated < best.sharpSpokes) best.sharpSpokes = rotated;
+  }
+  return best;
+}
+
+std::string ringKindKey(const RingKind& kind) {
+  std::string key = std::to_string(kind.shape.sectors) + (kind.shape.open ? "o" : "c") + (kind.cornerEv ? "x" : "-");
+  for (int s = 0; s < kind.shape.spokeCount(); ++s) {
+    key += s < int(kind.sharpSpokes.size()) && kind.sharpSpokes[s] ? '1' : '0';
+  }
+  return key;
+}
+
 std::vector<double> computeDepthBound(const RingKind& kind, int maxDepth, int tiles) {
   std::vector<uint8_t> sharp = kind.sharpSpokes;
   sharp.resize(kind.shape.spokeCount(), 0);

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/rings/cer_layout.h"
@@ -23,6 +24,16 @@ struct RingKind {
 
 inline constexpr int kMaxTableDepth = 24;
 inline constexpr int kBoundTiles = 14;
+
+// The kind a ring's rules make: a flag per spoke (an open ring's boundary spokes sharp), and
+// cornerEv exactly where the EV takes the corner rule.
+RingKind ringKindOf(const RingRules& rules);
+// The kind with its spokes rotated to the smallest pattern (a closed ring; an open one as it is):
+// kinds one rotation apart are one ring with its sectors numbered from another, so one bound.
+RingKind canonicalRotation(const RingKind& kind);
+// A kind's name in the tables: its faces, "c" or "o" (closed, open), "x" or "-" (corner EV or
+// not), then 1 or 0 per spoke (sharp or not); "5c-10100": a crease through an EV of valence 5.
+std::string ringKindKey(const RingKind& kind);
 
 // c_0 .. c_maxDepth for a ring kind.
 std::vector<double> computeDepthBound(const RingKind& kind, int maxDepth = kMaxTableDepth,

@@ -26,6 +26,17 @@ const TableEntry kTables[] = {
 #include "core/bounds/depth_tables_data.inc"
 };
 
+// Rings with sharp spokes or a corner EV, by the name of their kind's canonical rotation
+// (ringKindKey): every pattern of interior rings of valence 2..8 and of open rings of 1..6 faces.
+struct CreasedEntry {
+  const char* key;
+  double c[kMaxTableDepth + 1];
+};
+
+const CreasedEntry kCreasedTables[] = {
+#include "core/bounds/depth_tables_creased.inc"
+};
+
 // Computing a bound costs about sectors · rows · N² · depth multiply-adds; beyond this budget
 // (a few seconds) the a-posteriori hull bound is used instead.
 constexpr double kComputeBudget = 2e9;
@@ -52,24 +63,20 @@ const std::vector<double>* checkedInTable(const RingRules& rules) {
   return found == tables.end() ? nullptr : &found->second;
 }
 
-std::string kindKey(const RingRules& rules) {
-  std::string key = std::to_string(rules.shape.sectors) + (rules.shape.open ? "o" : "c") +
-                    (rules.evRule == EvRule::kCorner ? "x" : "-");
-  for (int s = 0; s < rules.shape.spokeCount(); ++s) key += rules.spokeSharp(s) ? '1' : '0';
-  return key;
+const std::vector<double>* checkedInCreasedTable(const std::string& canonicalKey) {
+  static const auto tables = [] {
+    std::map<std::string, std::vector<double>> byKey;
+    for (const CreasedEntry& e : kCreasedTables) byKey[e.key] = std::vector<double>(e.c, e.c + kMaxTableDepth + 1);
+    return byKey;
+  }();
+  auto found = tables.find(canonicalKey);
+  return found == tables.end() ? nullptr : &found->second;
 }
 
 double computeCost(const RingRules& rules) {
   double n = rules.shape.ringPointCount();
   double rows = 48.0 * kBoundTiles + n + 16;
   return rules.shape.sectors * rows * n * n * kMaxTableDepth;
-}
-
-std::vector<double> computedForKind(const RingRules& rules) {
-  RingKind kind{rules.shape, {}, false};
-  for (int s = 0; s < rules.shape.spokeCount(); ++s) kind.sharpSpokes.push_back(rules.spokeSharp(s));
-  kind.cornerEv = rules.evRule == EvRule::kCorner;
-  return computeDepthBound(kind);
 }
 
 // A-posteriori: the limit surface lies in the hull of the ring, the approximation in the hull of
@@ -111,18 +118,22 @@ double ringRadius(const RingRules& rules, const float* ring) {
   return radius;
 }
 
+// Kinds in neither table are computed once per process, for their canonical rotation: the
+// coefficients a ring gets then do not depend on which rotation a process met first.
 const std::vector<double>* depthCoefficients(const RingRules& rules) {
   if (const auto* table = checkedInTable(rules)) return table;
+  const RingKind kind = canonicalRotation(ringKindOf(rules));
+  const std::string key = ringKindKey(kind);
+  if (const auto* table = checkedInCreasedTable(key)) return table;
   if (computeCost(rules) > kComputeBudget) return nullptr;
   static std::mutex mutex;
   static std::map<std::string, std::vector<double>> cache;
-  std::string key = kindKey(rules);
   {
     std::lock_guard<std::mutex> lock(mutex);
     auto found = cache.find(key);
     if (found != cache.end()) return &found->second;
   }
-  std::vector<double> computed = computedForKind(rules);
+  std::vector<double> computed = computeDepthBound(kind);
   std::lock_guard<std::mutex> lock(mutex);
   return &cache.emplace(key, std::move(computed)).first->second;
 }

@@ -1,9 +1,11 @@
 // Depth estimation at run time (paper §5.2): the smallest FAS depth m whose Tier-1 bound
 // c_m · max_l ‖q_l − c‖ meets a ring's share ηε of the tolerance. Coefficients come from the
-// tables checked in as core/bounds/depth_tables_data.inc (interior and boundary rings; written by
-// tools/depth_tables/generate_depth_tables.cpp), are computed once
-// per process for other ring kinds when that is cheap, and otherwise the depth is found by
-// refining with an a-posteriori convex-hull bound.
+// tables checked in as core/bounds/depth_tables_data.inc (smooth interior and boundary rings) and
+// core/bounds/depth_tables_creased.inc (sharp spokes or a corner EV: every pattern of valence
+// 2..8 and of open rings of 1..6 faces, by canonical rotation), both written by
+// tools/depth_tables/generate_depth_tables.cpp; are computed once per process for other ring
+// kinds when that is cheap; and otherwise the depth is found by refining with an a-posteriori
+// convex-hull bound.
 #pragma once
 
 #include <vector>
