@@ -9,6 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <type_traits>
 
 #include "core/base/host_device.h"
 #include "core/base/vec3.h"
@@ -66,11 +68,32 @@ inline void halveCurve(const Vec3d* p, int stride, bool upper, Vec3d* out, int o
   for (int k = 0; k < 4; ++k) out[k * outStride] = upper ? higher[k] : lower[k];
 }
 
-// The net of quadrant (qu, qv) ∈ {0,1}² of the square: u ∈ [qu/2, (qu+1)/2], v likewise.
+// One half of the cubics through a, a + stride, a + 2 stride, a + 3 stride (each `width` doubles
+// side by side: several curves at once), halveCurve's sums element by element.
+template <int width>
+inline void halveCurves(const double* a, int stride, bool upper, double* out, int outStride) {
+  for (int e = 0; e < width; ++e) {
+    const double p0 = a[e], p1 = a[stride + e], p2 = a[2 * stride + e], p3 = a[3 * stride + e];
+    const double ab = (p0 + p1) * 0.5, bc = (p1 + p2) * 0.5, cd = (p2 + p3) * 0.5;
+    const double abc = (ab + bc) * 0.5, bcd = (bc + cd) * 0.5, mid = (abc + bcd) * 0.5;
+    out[e] = upper ? mid : p0;
+    out[outStride + e] = upper ? bcd : ab;
+    out[2 * outStride + e] = upper ? cd : abc;
+    out[3 * outStride + e] = upper ? p3 : mid;
+  }
+}
+
+// The net of quadrant (qu, qv) ∈ {0,1}² of the square: u ∈ [qu/2, (qu+1)/2], v likewise. The
+// rows halved along u (each row's points, three coordinates at a time), then the four columns at
+// once along v (a row of the net is 12 contiguous doubles): halveCurve's sums, bit for bit.
 inline BezierNet quadrantNet(const BezierNet& net, int qu, int qv) {
-  BezierNet rows, out;
-  for (int row = 0; row < 4; ++row) halveCurve(&net[4 * row], 1, qu == 1, &rows[4 * row], 1);
-  for (int col = 0; col < 4; ++col) halveCurve(&rows[col], 4, qv == 1, &out[col], 4);
+  static_assert(sizeof(BezierNet) == 48 * sizeof(double) && std::is_trivially_copyable_v<BezierNet>);
+  double in[48], rows[48], columns[48];
+  std::memcpy(in, net.data(), sizeof in);
+  for (int row = 0; row < 4; ++row) halveCurves<3>(in + 12 * row, 3, qu == 1, rows + 12 * row, 3);
+  halveCurves<12>(rows, 12, qv == 1, columns, 12);
+  BezierNet out;
+  std::memcpy(out.data(), columns, sizeof columns);
   return out;
 }
 
