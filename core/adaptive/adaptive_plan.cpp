@@ -151,7 +151,8 @@ void Planner::fillReal(const NodeSquare& n, Candidate& c) const {
   c.pairStage = !node.isLeaf()                     ? Candidate::PairStage::kStandIn
                 : tightens                          ? Candidate::PairStage::kDirect
                                                     : Candidate::PairStage::kTight;
-  setPair(c, node.pairFields());
+  // A leaf's own pair fields wait for the first plan that reads the leaf (directPairOf).
+  setPair(c, node.isLeaf() ? directPairOf(tree_, patches_, n.node) : node.pairFields());
   c.onePiece = node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf;
   c.edgesKnown = false;
   std::copy(node.boxMin, node.boxMin + 3, c.lo);

@@ -97,8 +97,9 @@ void DirectGather::leaf(uint32_t index, int depth, uint64_t ix, uint64_t iy) {
   Vec3d own[4];
   if (node.kind == NodeKind::kEvBottom) netOf();
   for (int k = 0; k < 4; ++k) own[k] = net ? (*net)[kCornerIndex[k]] : kept_.corners[index][k];
-  const double ownPair = kept_.ownPair[index];
-  const std::array<double, 4>& ownBow = kept_.ownBows[index];
+  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index);
+  const double ownPair = leafOwn.own;
+  const std::array<double, 4>& ownBow = leafOwn.ownBows;
   const double scale = exp2i(-depth), x0 = double(ix) * scale, y0 = double(iy) * scale;
   const bool touches[4] = {y0 == 0, x0 + scale == 1, y0 + scale == 1, x0 == 0};
   auto against = [&](double u0, double u1, double v0, double v1, double& pair, std::array<double, 4>& bows) {
@@ -155,25 +156,42 @@ DirectBounds DirectGather::compute() {
 
 }  // namespace
 
+namespace {
+
+DirectBounds leafBounds(const NodePair& fields, double own, const std::array<double, 4>& ownBows) {
+  DirectBounds leaf;
+  leaf.own = own;
+  leaf.ownBows = ownBows;
+  leaf.fields = fields;
+  leaf.pair = leaf.fields.pair;
+  std::copy(leaf.fields.bows, leaf.fields.bows + 4, leaf.bows.begin());
+  return leaf;
+}
+
+}  // namespace
+
+// An EV bottom's bounds are the build's; an exact leaf's (its net against the bilinear of its
+// corners, surface_tree_building::standInPair) and an internal node's (from its pieces) are
+// computed where first read and kept.
 DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
   const PairTightening& kept = tree.tightening;
-  if (tree.nodes[index].isLeaf()) {
-    DirectBounds leaf;
-    leaf.own = kept.ownPair[index];
-    leaf.ownBows = kept.ownBows[index];
-    leaf.fields = tree.nodes[index].pairFields();
-    leaf.pair = leaf.fields.pair;
-    std::copy(leaf.fields.bows, leaf.fields.bows + 4, leaf.bows.begin());
-    return leaf;
-  }
+  const SurfaceNode& node = tree.nodes[index];
+  if (node.kind == NodeKind::kEvBottom) return leafBounds(node.pairFields(), kept.ownPair[index], kept.ownBows[index]);
   if (kept.directKnown(index)) return kept.directCached(index);
-  const DirectBounds direct = DirectGather(tree, patches, index).compute();
+  DirectBounds direct;
+  if (node.isLeaf()) {
+    const BezierNet net = pieceNet(tree, patches, index);
+    const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
+    const surface_tree_building::StandInPair own = surface_tree_building::standInPair(net, corners, 0);
+    direct = leafBounds(own.fields, own.own, own.ownBows);
+  } else {
+    direct = DirectGather(tree, patches, index).compute();
+  }
   kept.publishDirect(index, direct);
   return direct;
 }
 
 NodePair directPairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
-  if (tree.nodes[index].isLeaf()) return tree.nodes[index].pairFields();
   return directBoundsOf(tree, patches, index).fields;
 }
 

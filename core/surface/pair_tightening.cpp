@@ -110,9 +110,8 @@ bool within(double bound, double limit) { return bound * (1 + 1e-9) <= limit; }
 // fifth at least), then §3d, kept where smaller still. §3c's walk, the dear part, stops at
 // `limit` when neither §3's bound nor §3d's is within it (the least of the three is then above).
 std::optional<NodePair> Tightener::leaf(uint32_t index, double limit) const {
-  const SurfaceNode& node = tree_.nodes[index];
   const BezierNet net = pieceNet(tree_, patches_, index);
-  NodePair pair = node.pairFields();
+  NodePair pair = directPairOf(tree_, patches_, index);
   const std::optional<FlatPairBound> flat = flatPairBound(net);
   const bool stops = pair.pair > limit && !(flat && within(flat->pair, limit));
   if (pair.pair > kGradedFloor * kept_.floor && pair.pair > kGradedSlack * pairLowerBound(net)) {
@@ -191,9 +190,10 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
   }
   double r;
   const BezierNet net = netOrStandIn(tree_, patches_, index, r);
-  const std::array<double, 4>& b = kept_.ownBows[index];
+  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index);
+  const std::array<double, 4>& b = leafOwn.ownBows;
   const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
-                    x0, y0, scale, kept_.ownPair[index], {b[0], b[1], b[2], b[3]}};
+                    x0, y0, scale, leafOwn.own, {b[0], b[1], b[2], b[3]}};
   const LazyNet whole(net);
   pieceAgainstDiagonal(&whole, r, own, x0, y0, scale, map, pair, bows, abortAbove);
 }

@@ -289,27 +289,35 @@ void TreeBuilder::setBox(uint32_t index, const ChainStep* step) {
   }
 }
 
-// docs/ADAPTIVE.md §3: with B the bilinear interpolant of the corner values, any triangle of the
-// square with its vertices on the square's sides has ‖f − L‖ ≤ r + ‖g − B‖ + |twist|/4 + σ,
-// σ the largest bow ‖f − chord‖ of a side that carries a vertex other than its corners.
-// Returns ‖g − B‖ and g's bows from the chords, which are a leaf's own bounds (keepOwn).
-TreeBuilder::BilinearGap TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const {
+StandInPair standInPair(const BezierNet& g, const Vec3d corners[4], double r) {
+  const Vec3d twist = corners[0] - corners[1] + corners[2] - corners[3];
+  // g's deviation from B over the square (split along either diagonal) and from each side's chord.
+  const double split = splitNetDistance(g, bilinearNet(corners));
+  const std::array<double, 4> chords = chordBows(g, corners);
+  StandInPair out;
+  out.fields.pair = roundUp((r + split + length(twist) / 4) * (1 + 1e-9));
+  for (int side = 0; side < 4; ++side) out.fields.bows[side] = roundUp((r + chords[side]) * (1 + 1e-9));
+  out.own = r + split;
+  for (int side = 0; side < 4; ++side) out.ownBows[side] = r + chords[side];
+  return out;
+}
+
+// The stand-in's bound and curvature, and but for an exact leaf the pair fields through it: an
+// exact leaf's wait for a request (directBoundsOf: most leaves of a creased sheet are never
+// read), and its fields say +∞ until then, so that nothing reads them as a bound.
+void TreeBuilder::setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const {
   node.standInBound = roundUp(fit.r);
   // An exact leaf is its own stand-in: its curvature is g's (summarizeLeaf).
   if (node.kind == NodeKind::kRegularLeaf || node.kind == NodeKind::kFasLeaf) {
     std::copy(node.curvature, node.curvature + 3, node.standInCurvature);
-  } else {
-    setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
+    node.pairBound = kInfinity;
+    std::fill(node.sideBow, node.sideBow + 4, kInfinity);
+    return;
   }
-  const Vec3d twist = fit.corners[0] - fit.corners[1] + fit.corners[2] - fit.corners[3];
-  const BilinearGap gap = bilinearGap(fit.g, fit.corners);
-  node.pairBound = roundUp((fit.r + gap.split + length(twist) / 4) * (1 + 1e-9));
-  for (int side = 0; side < 4; ++side) node.sideBow[side] = roundUp((fit.r + gap.chords[side]) * (1 + 1e-9));
-  return gap;
-}
-
-TreeBuilder::BilinearGap TreeBuilder::bilinearGap(const BezierNet& g, const Vec3d corners[4]) {
-  return {splitNetDistance(g, bilinearNet(corners)), chordBows(g, corners)};
+  setCurvature(node.standInCurvature, netCurvature(fit.g.data()).scaled(std::ldexp(1.0, 2 * level)));
+  const NodePair fields = standInPair(fit.g, fit.corners, fit.r).fields;
+  node.pairBound = fields.pair;
+  std::copy(fields.bows, fields.bows + 4, node.sideBow);
 }
 
 // Bounds bottom-up. EV quadrants of a chain take the better of the ring's ACC-1 stand-in and
@@ -319,8 +327,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
   if (self.kind == NodeKind::kRegularLeaf || self.kind == NodeKind::kFasLeaf) {
     NodeFit fit = summarizeLeaf(self, level);
     for (int c = 0; c < 4; ++c) tree_.tightening.corners[index][c] = fit.corners[c];
-    // Its corners are its net's: its stand-in's gap is its own.
-    keepOwn(index, setStandIn(tree_.nodes[index], fit, level), 0);
+    setStandIn(tree_.nodes[index], fit, level);
     tree_.tightening.defer(index, PairTightening::Deferred::kLeaf, pairLowerBound(fit.g));
     return fit;
   }
@@ -363,18 +370,19 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
     const BezierNet g = netOrStandIn(tree_, patches_, index, r);
     Vec3d corners[4];
     for (int k = 0; k < 4; ++k) corners[k] = g[kCornerIndex[k]];
-    keepOwn(index, bilinearGap(g, corners), r);
+    keepOwn(index, standInPair(g, corners, r));
   } else {
     deferPairs(index);
   }
   return fit;
 }
 
-// A leaf's own bounds at equal parameters (its net against the bilinear of its corners, grown by
-// r): its ancestors' direct bounds start from them (direct_pair_bounds.cpp).
-void TreeBuilder::keepOwn(uint32_t index, const BilinearGap& gap, double r) {
-  tree_.tightening.ownPair[index] = r + gap.split;
-  for (int side = 0; side < 4; ++side) tree_.tightening.ownBows[index][side] = r + gap.chords[side];
+// An EV bottom's own bounds at equal parameters (its stand-in as evaluation reads it, in floats,
+// against the bilinear of its corners, grown by r): its ancestors' direct bounds start from them
+// (direct_pair_bounds.cpp). An exact leaf's are computed where first read (directBoundsOf).
+void TreeBuilder::keepOwn(uint32_t index, const StandInPair& pair) {
+  tree_.tightening.ownPair[index] = pair.own;
+  tree_.tightening.ownBows[index] = pair.ownBows;
 }
 
 // An internal node's pair fields are its stand-in's (setStandIn) until a request reads them:

@@ -33,6 +33,18 @@ inline float roundUp(double value) {
   return double(f) < value ? std::nextafter(f, kInfinity) : f;
 }
 
+// docs/ADAPTIVE.md §3: a square's pair fields at equal parameters through its stand-in g (within
+// r of the surface; an exact piece is its own, r = 0) and its exact corner values: with B their
+// bilinear interpolant, any triangle of the square with its vertices on its sides is within
+// r + ‖g − B‖ + |twist|/4 + σ, σ the largest bow of a side carrying a vertex other than its
+// corners; and the own bounds (no twist) its ancestors' direct bounds start from.
+struct StandInPair {
+  NodePair fields;
+  double own;
+  std::array<double, 4> ownBows;
+};
+StandInPair standInPair(const BezierNet& g, const Vec3d corners[4], double r);
+
 // What the quadtree of a root is built from: regular patches and ring sectors, each a square.
 struct Item {
   int level;
@@ -73,15 +85,8 @@ class TreeBuilder {
   NodeFit ringStandIn(const ChainStep& step, int level) const;
   NodeFit fitChildren(const NodeFit children[4]) const;
   void setBox(uint32_t node, const ChainStep* step);
-  // A net's deviation from the bilinear B of its corners at equal parameters: over the square
-  // (split along either diagonal) and from each side's chord (docs/ADAPTIVE.md §3).
-  struct BilinearGap {
-    double split;
-    std::array<double, 4> chords;
-  };
-  static BilinearGap bilinearGap(const BezierNet& g, const Vec3d corners[4]);
-  BilinearGap setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
-  void keepOwn(uint32_t index, const BilinearGap& gap, double r);
+  void setStandIn(SurfaceNode& node, const NodeFit& fit, int level) const;
+  void keepOwn(uint32_t index, const StandInPair& pair);
   void deferPairs(uint32_t index);
   BezierNet leafNet(const SurfaceNode& node) const;
 
