@@ -97,7 +97,10 @@ void DirectGather::leaf(uint32_t index, int depth, uint64_t ix, uint64_t iy) {
   Vec3d own[4];
   if (node.kind == NodeKind::kEvBottom) netOf();
   for (int k = 0; k < 4; ++k) own[k] = net ? (*net)[kCornerIndex[k]] : kept_.corners[index][k];
-  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index);
+  // An exact leaf's own bounds, computed from the net here the first time (not twice).
+  if (node.kind != NodeKind::kEvBottom && !kept_.directKnown(index)) netOf();
+  const DirectBounds leafOwn =
+      directBoundsOf(tree_, patches_, index, node.kind != NodeKind::kEvBottom && net ? &*net : nullptr);
   const double ownPair = leafOwn.own;
   const std::array<double, 4>& ownBow = leafOwn.ownBows;
   const double scale = exp2i(-depth), x0 = double(ix) * scale, y0 = double(iy) * scale;
@@ -173,14 +176,14 @@ DirectBounds leafBounds(const NodePair& fields, double own, const std::array<dou
 // An EV bottom's bounds are the build's; an exact leaf's (its net against the bilinear of its
 // corners, surface_tree_building::standInPair) and an internal node's (from its pieces) are
 // computed where first read and kept.
-DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index) {
+DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, const BezierNet* leafNet) {
   const PairTightening& kept = tree.tightening;
   const SurfaceNode& node = tree.nodes[index];
   if (node.kind == NodeKind::kEvBottom) return leafBounds(node.pairFields(), kept.ownPair[index], kept.ownBows[index]);
   if (kept.directKnown(index)) return kept.directCached(index);
   DirectBounds direct;
   if (node.isLeaf()) {
-    const BezierNet net = pieceNet(tree, patches, index);
+    const BezierNet net = leafNet ? *leafNet : pieceNet(tree, patches, index);
     const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
     const surface_tree_building::StandInPair own = surface_tree_building::standInPair(net, corners, 0);
     direct = leafBounds(own.fields, own.own, own.ownBows);

@@ -190,7 +190,7 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
   }
   double r;
   const BezierNet net = netOrStandIn(tree_, patches_, index, r);
-  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index);
+  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index, node.kind != NodeKind::kEvBottom ? &net : nullptr);
   const std::array<double, 4>& b = leafOwn.ownBows;
   const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
                     x0, y0, scale, leafOwn.own, {b[0], b[1], b[2], b[3]}};

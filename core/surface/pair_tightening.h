@@ -19,6 +19,7 @@
 #include "core/base/vec3.h"
 #include "core/base/published_slots.h"
 #include "core/base/zeroed_slots.h"
+#include "core/math/bezier_net.h"
 
 namespace tessera {
 
@@ -108,7 +109,9 @@ class PairTightening {
 };
 
 // An internal node's direct bounds, computed on first read and kept; a leaf's own bounds.
-DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
+// `net`: an exact leaf's net (pieceNet) where the caller has it already.
+DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node,
+                            const BezierNet* net = nullptr);
 // The pair fields the build's direct bounds give (§3, §3a): the node's own fields, or an internal
 // node's from its pieces on first read.
 NodePair directPairOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t node);
