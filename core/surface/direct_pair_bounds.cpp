@@ -159,9 +159,7 @@ DirectBounds DirectGather::compute() {
 
 }  // namespace
 
-namespace {
-
-DirectBounds leafBounds(const NodePair& fields, double own, const std::array<double, 4>& ownBows) {
+DirectBounds leafDirectBounds(const NodePair& fields, double own, const std::array<double, 4>& ownBows) {
   DirectBounds leaf;
   leaf.own = own;
   leaf.ownBows = ownBows;
@@ -171,22 +169,19 @@ DirectBounds leafBounds(const NodePair& fields, double own, const std::array<dou
   return leaf;
 }
 
-}  // namespace
-
-// An EV bottom's bounds are the build's; an exact leaf's (its net against the bilinear of its
-// corners, surface_tree_building::standInPair) and an internal node's (from its pieces) are
-// computed where first read and kept.
+// An EV bottom's bounds are the build's (published then); an exact leaf's (its net against the
+// bilinear of its corners, surface_tree_building::standInPair) and an internal node's (from its
+// pieces) are computed where first read and kept.
 DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, const BezierNet* leafNet) {
   const PairTightening& kept = tree.tightening;
   const SurfaceNode& node = tree.nodes[index];
-  if (node.kind == NodeKind::kEvBottom) return leafBounds(node.pairFields(), kept.ownPair[index], kept.ownBows[index]);
   if (kept.directKnown(index)) return kept.directCached(index);
   DirectBounds direct;
   if (node.isLeaf()) {
     const BezierNet net = leafNet ? *leafNet : pieceNet(tree, patches, index);
     const Vec3d corners[4] = {net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]};
     const surface_tree_building::StandInPair own = surface_tree_building::standInPair(net, corners, 0);
-    direct = leafBounds(own.fields, own.own, own.ownBows);
+    direct = leafDirectBounds(own.fields, own.own, own.ownBows);
   } else {
     direct = DirectGather(tree, patches, index).compute();
   }

@@ -24,8 +24,6 @@ using surface_tree_building::roundUp;
 
 PairTightening::PairTightening(size_t nodes)
     : corners(nodes),
-      ownPair(nodes, 0),
-      ownBows(nodes, {0, 0, 0, 0}),
       size_(nodes),
       pairs_(nodes),
       direct_(nodes),
@@ -55,8 +53,7 @@ void PairTightening::raiseProvenAbove(uint32_t node, double limit) const {
 }
 
 size_t PairTightening::bytes() const {
-  const size_t perNode = sizeof(std::array<Vec3d, 4>) + sizeof(double) + sizeof(std::array<double, 4>) +
-                         PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(double) +
+  const size_t perNode = sizeof(std::array<Vec3d, 4>) + PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(double) +
                          sizeof(float) + sizeof(Deferred);
   return sizeof(*this) + size_ * perNode;
 }

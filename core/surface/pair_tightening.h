@@ -45,6 +45,10 @@ struct DirectBounds {
   NodePair fields;
 };
 
+// A leaf's DirectBounds: its own bounds at equal parameters (no twist), its fields, and the pair
+// and bows its own tightening starts from (the fields').
+DirectBounds leafDirectBounds(const NodePair& fields, double own, const std::array<double, 4>& ownBows);
+
 // What the build leaves for the pair bounds a request computes, and those bounds as requests
 // compute them: an internal node's direct bounds (from its pieces), then, where deferred, the
 // tightened ones. Thread-safe: concurrent requests for one mesh may compute one node's bounds
@@ -66,11 +70,9 @@ class PairTightening {
   // An internal node, whose direct bounds always wait for a request (a leaf's are its own):
   // `lower` as in defer().
   void deferDirect(uint32_t node, double lower);
-  // Per node, set by the build: its exact corner values, and for leaves their own bounds at
-  // equal parameters (an internal node's are in its DirectBounds).
+  // Per node, set by the build: its exact corner values (an EV bottom's own bounds the build
+  // publishes as its DirectBounds; an exact leaf's and an internal node's wait for a request).
   std::vector<std::array<Vec3d, 4>> corners;
-  std::vector<double> ownPair;
-  std::vector<std::array<double, 4>> ownBows;
   double floor = 0;  // the tree's chain floor (SurfaceTree::floor)
 
   Deferred deferred(uint32_t node) const { return deferred_[node]; }

@@ -381,8 +381,7 @@ NodeFit TreeBuilder::summarize(uint32_t index, int level) {
 // against the bilinear of its corners, grown by r): its ancestors' direct bounds start from them
 // (direct_pair_bounds.cpp). An exact leaf's are computed where first read (directBoundsOf).
 void TreeBuilder::keepOwn(uint32_t index, const StandInPair& pair) {
-  tree_.tightening.ownPair[index] = pair.own;
-  tree_.tightening.ownBows[index] = pair.ownBows;
+  tree_.tightening.publishDirect(index, leafDirectBounds(tree_.nodes[index].pairFields(), pair.own, pair.ownBows));
 }
 
 // An internal node's pair fields are its stand-in's (setStandIn) until a request reads them:
