@@ -6,7 +6,7 @@
 //       outside any timing) to a GLB: buildPatchSet (preprocessing), tessellate() at relative
 //       tolerance ε, writeGlb (float), and freeing it all. Nothing of the mesh survives an
 //       iteration; what does is process-wide and the same for every mesh (core's scratch pools,
-//       the depth tables, TBB's threads).
+//       the depth tables, all checked in for the kinds these meshes have, TBB's threads).
 //   BM_Cold_OsdBfrOracle/<model>/<eps>  the same mesh to Bfr at the oracle rate
 //       (bench/oracle_rates.csv): Far::TopologyRefiner, a RefinerSurfaceFactory with an empty
 //       cache and the output buffers made, then per face on both cores positions, normals and
