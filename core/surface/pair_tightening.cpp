@@ -108,7 +108,7 @@ bool within(double bound, double limit) { return bound * (1 + 1e-9) <= limit; }
 // `limit` when neither §3's bound nor §3d's is within it (the least of the three is then above).
 std::optional<NodePair> Tightener::leaf(uint32_t index, double limit) const {
   const BezierNet net = pieceNet(tree_, patches_, index);
-  NodePair pair = directPairOf(tree_, patches_, index);
+  NodePair pair = directBoundsOf(tree_, patches_, index, &net).fields;
   const std::optional<FlatPairBound> flat = flatPairBound(net);
   const bool stops = pair.pair > limit && !(flat && within(flat->pair, limit));
   if (pair.pair > kGradedFloor * kept_.floor && pair.pair > kGradedSlack * pairLowerBound(net)) {
