@@ -30,6 +30,7 @@ namespace {
 
 using namespace tessera;
 
+// A limit position as Far's PrimvarRefiner reads and writes it.
 struct Point {
   Vec3d p;
   void Clear(void* = nullptr) { p = Vec3d(); }
@@ -51,9 +52,10 @@ ControlMesh sharpened(const ControlMesh& mesh, int& least, int& most) {
   return out;
 }
 
-// Every level's positions, levels concatenated, and the limit positions of the last level.
+// Every level's positions, levels concatenated (Far's numbering), and the limit positions of the
+// last level.
 struct Refined {
-  std::vector<Point> points;
+  std::vector<Vec3d> points;
   std::vector<Point> limit;
   std::vector<int> levelStart;
 };
@@ -63,30 +65,23 @@ Refined refineUniformly(Far::TopologyRefiner& refiner, const ControlMesh& mesh, 
   options.fullTopologyInLastLevel = true;
   refiner.RefineUniform(options);
   Refined out;
-  out.points.resize(size_t(refiner.GetNumVerticesTotal()));
-  for (size_t v = 0; v < mesh.positions.size(); ++v) out.points[v].p = Vec3d(mesh.positions[v]);
-  Far::PrimvarRefinerReal<double> primvar(refiner);
-  int start = 0;
+  out.points = refinedPositions(refiner, mesh.positions);
   out.levelStart.push_back(0);
   for (int level = 1; level <= levels; ++level) {
-    const int next = start + refiner.GetLevel(level - 1).GetNumVertices();
-    Point* source = out.points.data() + start;
-    Point* destination = out.points.data() + next;
-    primvar.Interpolate(level, source, destination);
-    start = next;
-    out.levelStart.push_back(start);
+    out.levelStart.push_back(out.levelStart.back() + refiner.GetLevel(level - 1).GetNumVertices());
   }
-  out.limit.resize(size_t(refiner.GetLevel(levels).GetNumVertices()));
-  Point* finest = out.points.data() + start;
-  Point* limit = out.limit.data();
-  primvar.Limit(finest, limit);
+  std::vector<Point> finest(out.points.size() - size_t(out.levelStart.back()));
+  for (size_t v = 0; v < finest.size(); ++v) finest[v].p = out.points[size_t(out.levelStart.back()) + v];
+  out.limit.resize(finest.size());
+  Far::PrimvarRefinerReal<double> primvar(refiner);
+  primvar.Limit(finest, out.limit);
   return out;
 }
 
 // The largest 1-ring diameter of a level-j face with a vertex on an edge that is infinitely sharp
 // in `sharp` and not in `exact` (a crease made sharp; in `exact` its sharpness is s − j, 0 from
 // level s on for an integer s).
-double hullBound(const Far::TopologyLevel& exact, const Far::TopologyLevel& sharp, const Point* positions) {
+double hullBound(const Far::TopologyLevel& exact, const Far::TopologyLevel& sharp, const Vec3d* positions) {
   std::vector<uint8_t> onCrease(size_t(exact.GetNumVertices()), 0);
   for (int e = 0; e < exact.GetNumEdges(); ++e) {
     if (!(sharp.IsEdgeInfSharp(e) && !exact.IsEdgeInfSharp(e))) continue;
@@ -112,7 +107,7 @@ double hullBound(const Far::TopologyLevel& exact, const Far::TopologyLevel& shar
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
     for (size_t a = 0; a < ring.size(); ++a) {
       for (size_t b = a + 1; b < ring.size(); ++b) {
-        worst = std::max(worst, length(positions[size_t(ring[a])].p - positions[size_t(ring[b])].p));
+        worst = std::max(worst, length(positions[size_t(ring[a])] - positions[size_t(ring[b])]));
       }
     }
   }
@@ -159,7 +154,7 @@ int main(int argc, char** argv) {
     // Up to L levels the two rule sets make the same points.
     double apart = 0;
     for (int v = exact.levelStart[size_t(j)]; v < (j < levels ? exact.levelStart[size_t(j) + 1] : int(exact.points.size())); ++v) {
-      apart = std::max(apart, length(exact.points[size_t(v)].p - stand.points[size_t(v)].p));
+      apart = std::max(apart, length(exact.points[size_t(v)] - stand.points[size_t(v)]));
     }
     const double bound = hullBound(exactRefiner->GetLevel(j), sharpRefiner->GetLevel(j), exact.points.data() + exact.levelStart[size_t(j)]);
     sound = sound && measured <= bound && apart == 0;
