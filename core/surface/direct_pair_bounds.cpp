@@ -172,7 +172,8 @@ DirectBounds leafDirectBounds(const NodePair& fields, double own, const std::arr
 // An EV bottom's bounds are the build's (published then); an exact leaf's (its net against the
 // bilinear of its corners, surface_tree_building::standInPair) and an internal node's (from its
 // pieces) are computed where first read and kept.
-DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index, const BezierNet* leafNet) {
+DirectBounds directBoundsOf(const SurfaceTree& tree, const PatchSet& patches, uint32_t index,
+                            const BezierNet* leafNet) {
   const PairTightening& kept = tree.tightening;
   const SurfaceNode& node = tree.nodes[index];
   if (kept.directKnown(index)) return kept.directCached(index);

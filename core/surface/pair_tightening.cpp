@@ -53,8 +53,9 @@ void PairTightening::raiseProvenAbove(uint32_t node, double limit) const {
 }
 
 size_t PairTightening::bytes() const {
-  const size_t perNode = sizeof(std::array<Vec3d, 4>) + PublishedSlots<NodePair>::kBytesPerSlot + PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(double) +
-                         sizeof(float) + sizeof(Deferred);
+  const size_t perNode = sizeof(std::array<Vec3d, 4>) + PublishedSlots<NodePair>::kBytesPerSlot +
+                         PublishedSlots<DirectBounds>::kBytesPerSlot + sizeof(double) + sizeof(float) +
+                         sizeof(Deferred);
   return sizeof(*this) + size_ * perNode;
 }
 
@@ -187,7 +188,8 @@ void Tightener::againstDiagonal(uint32_t index, int depth, uint64_t ix, uint64_t
   }
   double r;
   const BezierNet net = netOrStandIn(tree_, patches_, index, r);
-  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index, node.kind != NodeKind::kEvBottom ? &net : nullptr);
+  const BezierNet* exactNet = node.kind != NodeKind::kEvBottom ? &net : nullptr;
+  const DirectBounds leafOwn = directBoundsOf(tree_, patches_, index, exactNet);
   const std::array<double, 4>& b = leafOwn.ownBows;
   const LeafOwn own{{net[kCornerIndex[0]], net[kCornerIndex[1]], net[kCornerIndex[2]], net[kCornerIndex[3]]},
                     x0, y0, scale, leafOwn.own, {b[0], b[1], b[2], b[3]}};

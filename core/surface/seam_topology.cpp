@@ -50,7 +50,9 @@ class EdgeFaces {
       return ordered(t.corner(f, k), t.corner(f, k + 1));
     };
     // By the edge's lower vertex (in corner order, so in face order), then by its upper one.
-    const Buckets byLow(vertices, corners, [&](int c) { return hole[size_t(cornerFace[size_t(c)])] ? -1 : edgeOf(c).first; });
+    const Buckets byLow(vertices, corners, [&](int c) {
+      return hole[size_t(cornerFace[size_t(c)])] ? -1 : edgeOf(c).first;
+    });
     faces_.reserve(byLow.items.size());
     first_.assign(size_t(corners), 0);
     last_.assign(size_t(corners), 0);
@@ -125,8 +127,9 @@ SeamTopology::SeamTopology(const ControlMesh& mesh)
   std::vector<int> parent(faceSizes.size());
   cornerWedge.assign(faceVertices.size(), -1);
   // Each vertex's face corners, in face order.
-  const Buckets vertexCorners(mesh.vertexCount(), corners,
-                              [&](int c) { return hole[size_t(cornerFace[size_t(c)])] ? -1 : faceVertices[size_t(c)]; });
+  const Buckets vertexCorners(mesh.vertexCount(), corners, [&](int c) {
+    return hole[size_t(cornerFace[size_t(c)])] ? -1 : faceVertices[size_t(c)];
+  });
   for (int v = 0; v < mesh.vertexCount(); ++v) {
     const std::span<const int> at = vertexCorners.of(v);
     if (at.empty()) continue;
