@@ -37,12 +37,11 @@ import sys
 import time
 from pathlib import Path
 
-import addon_utils
 import bpy
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "blender"))
-from blender_session import start_server, write_cage  # noqa: E402
+from blender_session import enable_addon, start_server, write_cage  # noqa: E402
 
 arguments = sys.argv[sys.argv.index("--") + 1:]
 out, server_binary, model = Path(arguments[0]), arguments[1], Path(arguments[2])
@@ -125,12 +124,10 @@ def write_triangles(path: Path, mesh) -> None:
 def main():
     process, address, _ = start_server(server_binary)
     try:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        addon_utils.enable("tessera_subdiv", default_set=True)
+        preferences = enable_addon(address)
+        preferences.live_debounce = 0.0
         from tessera_subdiv import live
         from tessera_subdiv.cage import read_cage
-        preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
-        preferences.server, preferences.live_debounce = address, 0.0
         view_layer = bpy.context.view_layer
 
         source = cage_mesh("Cage", model)

@@ -22,12 +22,12 @@ import time
 import types
 from pathlib import Path
 
-import addon_utils
 import bpy
 from mathutils import Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blender_session import creased_cube, metric, start_server, write_cage, write_result  # noqa: E402
+from blender_session import (creased_cube, enable_addon, metric, panel_labels, start_server,  # noqa: E402
+                             write_cage, write_result)
 
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE = 1e-3
@@ -66,36 +66,6 @@ class Modal:
         return answer
 
 
-class PanelLayout:
-    """Records the labels the panel's draw() puts on screen (background mode draws no panels)."""
-
-    def __init__(self):
-        self.labels, self.alert = [], False
-
-    def prop(self, *args, **kwargs):
-        pass
-
-    def operator(self, *args, **kwargs):
-        pass
-
-    def row(self):
-        return self
-
-    def column(self):
-        return self
-
-    def label(self, text="", icon="NONE"):
-        self.labels.append((text, self.alert))
-
-
-def panel_labels(cube):
-    import tessera_subdiv  # noqa: PLC0415
-    bpy.context.view_layer.objects.active = cube
-    layout = PanelLayout()
-    tessera_subdiv.TESSERA_PT_panel.draw(type("Panel", (), {"layout": layout})(), bpy.context)
-    return layout.labels
-
-
 def refused() -> str:
     """The operator called from a script (executed: the whole range), which must fail: an
     operator's ERROR report is raised in background mode. Returns the message."""
@@ -109,12 +79,9 @@ def refused() -> str:
 def main():
     process, address, metrics_address = start_server(server_binary)
     try:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        addon_utils.enable("tessera_subdiv", default_set=True)
+        enable_addon(address)
         from tessera_subdiv import bake as bake_module
         from tessera_subdiv.cage import to_y_up
-        preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
-        preferences.server = address
         # Without the semi-sharp corner: on this cube stretched by the shape key, tessera-limit-check
         # puts meshes beside that corner (Tessera's from the CLI alone, Blender's own at Quality 10)
         # above the tolerance in its mesh -> limit direction only, its projection the suspect

@@ -28,13 +28,13 @@ import sys
 import time
 from pathlib import Path
 
-import addon_utils
 import bmesh
 import bpy
 from mathutils import Matrix, Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blender_session import creased_cube, metric, start_server, write_cage, write_result  # noqa: E402
+from blender_session import (creased_cube, enable_addon, metric, panel_labels, start_server,  # noqa: E402
+                             write_cage, write_result)
 
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
@@ -129,35 +129,6 @@ def shift_uvs_of_a_vertex(mesh):
             loop[layer].uv += Vector((0.01, 0.02))
 
 
-class PanelLayout:
-    """Records what the panel's draw() puts on screen (background mode draws no panels)."""
-
-    def __init__(self):
-        self.labels, self.alert = [], False
-
-    def prop(self, *args, **kwargs):
-        pass
-
-    def operator(self, *args, **kwargs):
-        pass
-
-    def row(self):
-        return self
-
-    def column(self):
-        return self
-
-    def label(self, text="", icon="NONE"):
-        self.labels.append(text)
-
-
-def panel_labels(tessera_subdiv):
-    layout = PanelLayout()
-    panel = type("Panel", (), {"layout": layout})()
-    tessera_subdiv.TESSERA_PT_panel.draw(panel, bpy.context)
-    return layout.labels
-
-
 def topology_counters(metrics_address):
     return metric(metrics_address, HITS), metric(metrics_address, BUILT)
 
@@ -182,16 +153,13 @@ def look_at(eye: Vector, target: Vector) -> Matrix:
 def main():
     process, address, metrics_address = start_server(server_binary)
     try:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        addon_utils.enable("tessera_subdiv", default_set=True)
-        import tessera_subdiv
+        preferences = enable_addon(address)
         from tessera_subdiv import live
         from tessera_subdiv.cage import read_cage, to_y_up
         from tessera_subdiv.viewport import active_viewport_view
         from tessera_subdiv.request import mesh_id, upload_cage
         from tessera_client import TesseraClient
-        preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
-        preferences.server, preferences.live_debounce = address, 0.02
+        preferences.live_debounce = 0.02
         cube = creased_cube(UV_RULE[0])
         cube.tessera.tolerance = TOLERANCE
         report = {"server": "tessera-server on loopback", "tolerance": TOLERANCE}
@@ -384,14 +352,14 @@ def main():
         # A request the server refuses: its message shown, the last good mesh kept.
         cube.tessera.mode, cube.tessera.tolerance = "RELATIVE", 1e-9
         driver.update("refused tolerance", expect_error="min_relative_tolerance")
-        labels = panel_labels(tessera_subdiv)
+        labels = [text for text, _ in panel_labels()]
         assert any("min_relative_tolerance" in label for label in labels), labels
         # Back to the tolerance: the final mesh, measured by run_live.sh.
         cube.tessera.tolerance = TOLERANCE
         records.append(driver.update("relative again"))
         assert driver.session.error is None
         # The panel: triangles, the proven bound and the round trip of what Cage_tessera shows.
-        labels = panel_labels(tessera_subdiv)
+        labels = [text for text, _ in panel_labels()]
         summary = driver.session.summary
         assert f"{summary.triangles:,} triangles, within {summary.guaranteed_bound:.3g}" in labels, labels
         assert f"Round trip {1000 * driver.session.round_trip_s:.0f} ms" in labels, labels

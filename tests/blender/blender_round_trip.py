@@ -9,13 +9,12 @@ Arguments after "--": OUT_DIR SERVER_BINARY."""
 import sys
 from pathlib import Path
 
-import addon_utils
 import bmesh
 import bpy
 from mathutils import Vector
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from blender_session import creased_cube, metric, start_server, write_obj  # noqa: E402
+from blender_session import creased_cube, enable_addon, metric, start_server, write_obj  # noqa: E402
 
 out, server_binary = Path(sys.argv[sys.argv.index("--") + 1]), sys.argv[sys.argv.index("--") + 2]
 TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
@@ -24,12 +23,9 @@ TOLERANCE, UV_RULE = 1e-3, ("PRESERVE_BOUNDARIES", "boundaries")
 def main():
     process, address, metrics_address = start_server(server_binary)
     try:
-        bpy.ops.wm.read_factory_settings(use_empty=True)
-        addon_utils.enable("tessera_subdiv", default_set=True)
+        preferences = enable_addon(address)
         import tessera_subdiv
         from tessera_subdiv.cage import read_cage, to_y_up
-        preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
-        preferences.server = address
         cube = creased_cube(UV_RULE[0], vertical_crease=0.6)
         cage = read_cage(cube)
         assert len(cage.creases) == 5 and cage.corners and cage.uv_indices and cage.uv_interpolation == UV_RULE[1], cage

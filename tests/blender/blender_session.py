@@ -1,6 +1,7 @@
 """What a headless Blender test of the add-on needs beside Blender: a real tessera-server on
-loopback, the creased cube the live and bake tests send, its /metrics counters, and OBJ files (cage with its crease and corner tags, result) for
-tessera-limit-check."""
+loopback, the add-on enabled against it, the creased cube the live and bake tests send, what the
+add-on's panel shows, the server's /metrics counters, and OBJ files (cage with its crease and corner
+tags, result) for tessera-limit-check."""
 import subprocess
 import tempfile
 import time
@@ -22,6 +23,52 @@ def start_server(server_binary: str):
     lines = ready.read_text().splitlines()
     return process, next(line[5:] for line in lines if line.startswith("grpc=")), \
         next(line[8:] for line in lines if line.startswith("metrics="))
+
+
+def enable_addon(address: str):
+    """Blender's factory settings and the add-on enabled as a user enables it, pointed at the
+    server at `address`: its preferences."""
+    import addon_utils  # noqa: PLC0415 (Blender's modules: these functions run inside Blender)
+    import bpy  # noqa: PLC0415
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("tessera_subdiv", default_set=True)
+    preferences = bpy.context.preferences.addons["tessera_subdiv"].preferences
+    preferences.server = address
+    return preferences
+
+
+class PanelLayout:
+    """Records the labels the panel's draw() puts on screen (background mode draws no panels),
+    each with whether it was drawn as an alert."""
+
+    def __init__(self):
+        self.labels, self.alert = [], False
+
+    def prop(self, *args, **kwargs):
+        pass
+
+    def operator(self, *args, **kwargs):
+        pass
+
+    def row(self):
+        return self
+
+    def column(self):
+        return self
+
+    def label(self, text="", icon="NONE"):
+        self.labels.append((text, self.alert))
+
+
+def panel_labels(active=None):
+    """The Tessera panel's labels as (text, alert), for the active object (`active` made it first)."""
+    import bpy  # noqa: PLC0415
+    import tessera_subdiv  # noqa: PLC0415
+    if active is not None:
+        bpy.context.view_layer.objects.active = active
+    layout = PanelLayout()
+    tessera_subdiv.TESSERA_PT_panel.draw(type("Panel", (), {"layout": layout})(), bpy.context)
+    return layout.labels
 
 
 def creased_cube(uv_smooth: str = "PRESERVE_BOUNDARIES", corner: bool = True, vertical_crease: float = 0.0):
