@@ -126,6 +126,12 @@ class TESSERA_OT_tessellate(bpy.types.Operator):
         return {"FINISHED"}
 
 
+def subdivided_mesh_active(context) -> bool:
+    """The active object is a mesh with a Subdivision modifier: what baking and the panel work on."""
+    obj = context.active_object
+    return obj is not None and obj.type == "MESH" and subdivision_modifier(obj) is not None
+
+
 class TESSERA_OT_bake_frames(bpy.types.Operator):
     """Tessellate every frame of a range on the Tessera server, each kept as an object shown on its
     frame (Esc cancels; the frames baked so far stay)"""
@@ -138,8 +144,7 @@ class TESSERA_OT_bake_frames(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and subdivision_modifier(obj) is not None
+        return subdivided_mesh_active(context)
 
     def _start(self, context):
         scene = context.scene
@@ -188,8 +193,7 @@ class TESSERA_PT_panel(bpy.types.Panel):
 
     @classmethod
     def poll(cls, context):
-        obj = context.active_object
-        return obj is not None and obj.type == "MESH" and subdivision_modifier(obj) is not None
+        return subdivided_mesh_active(context)
 
     def draw(self, context):
         obj = context.active_object
