@@ -9,35 +9,22 @@ Tessellate, on a fresh server each way; and the server's topology cache counters
 (the venv is the PythonClient test's, with tessera_client installed)."""
 import argparse
 import json
-import subprocess
-import tempfile
+import sys
 import time
-import urllib.request
 from pathlib import Path
 
 from tessera_client import TesseraClient
 from tessera_client._proto.tessera.v1 import mesh_pb2
 
-
-def metric(address, name):
-    page = urllib.request.urlopen(f"http://{address}/metrics").read().decode()
-    return int(float(next(l.split()[1] for l in page.splitlines() if l.startswith(name + " "))))
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "blender"))
+from blender_session import metric, start_server  # noqa: E402 (tessera-server on loopback; no Blender needed)
 
 
 def loop(build, model, relative, edits, positions_only):
-    work = Path(tempfile.mkdtemp(prefix="edit-timing-"))
-    ready = work / "ready"
-    server = subprocess.Popen([str(build / "server/tessera-server"), "--listen", "127.0.0.1:0", "--store",
-                               f"sqlite:{work}/m.db", "--metrics-listen", "127.0.0.1:0", "--ready-file", str(ready),
-                               "--log-level", "warn"])
+    server, address, metrics_address = start_server(str(build / "server/tessera-server"))
     try:
-        for _ in range(400):
-            if ready.exists() and "metrics=" in ready.read_text():
-                break
-            time.sleep(0.05)
-        lines = dict(l.split("=", 1) for l in ready.read_text().splitlines() if "=" in l)
         rows = []
-        with TesseraClient(lines["grpc"]) as client:
+        with TesseraClient(address) as client:
             client.upload_obj("parent", model)
             parent = mesh_pb2.MeshArrays()
             for message in client._meshes.DownloadMesh(mesh_pb2.DownloadMeshRequest(name="meshes/parent")):
@@ -63,8 +50,8 @@ def loop(build, model, relative, edits, positions_only):
                 done = time.perf_counter()
                 rows.append({"step": f"edit {edit}", "upload_s": round(uploaded - start, 3),
                              "tessellate_s": round(done - uploaded, 3),
-                             "topology_hits": metric(lines["metrics"], "tessera_topology_cache_hits_total"),
-                             "topology_built": metric(lines["metrics"], "tessera_topology_cache_misses_total")})
+                             "topology_hits": int(metric(metrics_address, "tessera_topology_cache_hits_total")),
+                             "topology_built": int(metric(metrics_address, "tessera_topology_cache_misses_total"))})
         return rows
     finally:
         server.terminate()

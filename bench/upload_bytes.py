@@ -20,6 +20,9 @@ import threading
 import time
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "blender"))
+from blender_session import start_server  # noqa: E402 (tessera-server on loopback; no Blender needed)
+
 
 class Relay:
     """Listens on a free loopback port and relays every connection to `target`, counting bytes."""
@@ -115,16 +118,8 @@ def main():
     args = parser.parse_args()
     build, model = Path(args.build).resolve(), Path(args.model).resolve()
     work = Path(tempfile.mkdtemp(prefix="upload-bytes-"))
-    ready = work / "ready"
-    server = subprocess.Popen([str(build / "server/tessera-server"), "--listen", "127.0.0.1:0", "--store",
-                               f"sqlite:{work}/m.db", "--metrics-listen", "off", "--ready-file", str(ready),
-                               "--log-level", "warn"])
+    server, address, _ = start_server(str(build / "server/tessera-server"))
     try:
-        for _ in range(400):
-            if ready.exists() and "grpc=" in ready.read_text():
-                break
-            time.sleep(0.05)
-        address = next(l[5:] for l in ready.read_text().splitlines() if l.startswith("grpc="))
         relay = Relay(address)
         edit = work / (model.stem + "-edit.obj")
         edit.write_text(edited_obj(model.read_text()))
